@@ -1,0 +1,16 @@
+"""File input/output: ParaView VTU/PVD series, HDF5 checkpoints, probe CSV files."""
+
+from .checkpoint import load_checkpoint, save_checkpoint
+from .csvout import ProbeCSVWriter, read_probes_csv, write_probes_csv
+from .vtk import PVDSeries, read_vtu, write_vtu
+
+__all__ = [
+    "write_vtu",
+    "read_vtu",
+    "PVDSeries",
+    "save_checkpoint",
+    "load_checkpoint",
+    "write_probes_csv",
+    "read_probes_csv",
+    "ProbeCSVWriter",
+]

@@ -1,0 +1,32 @@
+"""seawall: smoothed particle hydrodynamics with swappable, validated solid walls.
+
+>>> import seawall as sw
+>>> fluid = sw.FluidSystem(sw.shapes.rectangle((0, 0), (0.6, 0.3), 0.01), eos=sw.Tait(c0=20.0))
+"""
+
+import os as _os
+
+# OpenMP threads that spin while waiting make every compiled parallel call cost
+# milliseconds as soon as another process shares the cores (measured: 1.2 ms
+# instead of 0.03 ms per call on 2 busy cores). Passive waiting costs little when
+# the machine is idle. Set before numba starts its threads; the user's value wins.
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+from . import boundary, shapes  # noqa: E402
+from .boundary import DummyParticles, WallSystem
+from .eos import Linear, Tait
+from .errors import InstabilityError, ParameterError, SeawallError
+from .fluid import ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi
+from .integrators import LeapFrog, Symplectic
+from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC4
+from . import probes, output
+from .simulation import RunResult, Simulation
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "FluidSystem", "WallSystem", "Simulation", "RunResult", "DummyParticles",
+    "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
+    "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
+    "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output",
+]

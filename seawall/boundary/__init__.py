@@ -1,0 +1,12 @@
+"""Wall treatments: one module per family, all behind the WallModel interface.
+
+``registry`` maps the command-line names to factories, so cases and the CLI
+can build any model by name.
+"""
+
+from .base import EvaluationContext, WallModel, WallSystem
+from .dummy import DummyParticles
+from .registry import BOUNDARIES, boundary_by_name
+
+__all__ = ["WallModel", "WallSystem", "EvaluationContext", "DummyParticles", "BOUNDARIES",
+           "boundary_by_name"]

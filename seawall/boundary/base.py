@@ -1,0 +1,114 @@
+"""The wall interface: a wall system is particles plus a swappable wall model.
+
+A :class:`WallModel` has two duties each time the fluid's rates are computed
+(DESIGN.md, layer 6):
+
+``update(wall, fluid, ctx)``
+    set the wall particles' state (pressure, density, velocity used for
+    viscosity) from the fluid, or advance it, before the fluid's rates;
+``interact(fluid, wall, ctx, dv, drho)``
+    add the wall's contribution to the fluid's acceleration ``dv`` and
+    density rate ``drho``.
+
+``ctx`` (:class:`EvaluationContext`) carries the compiled-parameter bundle,
+the neighbour grid and the current cell lists. Models keep their compiled
+loops in their own module, so adding a model never touches the fluid code.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..particles import ParticleArrays
+
+
+@dataclass
+class EvaluationContext:
+    """What a wall model may read during one evaluation of the rates."""
+
+    physics: object          # seawall.fluid.params.Physics
+    grid: object             # seawall.neighbors.CellGrid
+    fluid_cells: object      # CellList of the fluid at the evaluation positions
+    time: float
+    dx: float                # fluid particle spacing
+
+
+class WallModel:
+    """Base class of every wall treatment; subclasses implement update and interact."""
+
+    #: name used on the command line and in reports
+    name = "wall-model"
+
+    def prepare(self, wall, fluid, physics):
+        """Called once when the simulation is built: allocate and check the wall's arrays."""
+
+    def update(self, wall, fluid, ctx):
+        raise NotImplementedError
+
+    def interact(self, fluid, wall, ctx, dv, drho):
+        raise NotImplementedError
+
+    def describe(self):
+        """One line for summaries."""
+        return self.name
+
+
+class WallSystem:
+    """Wall particles and the model that makes them act on the fluid.
+
+    Parameters
+    ----------
+    shape : seawall.shapes.Shape
+        Wall particle positions, spacing, normals and surface points (as
+        produced by :func:`seawall.shapes.tank`).
+    model : WallModel, optional
+        The wall treatment; default dummy particles with Adami pressure
+        extrapolation, free slip.
+    velocity : array-like, optional
+        Prescribed velocity of the wall particles [m/s] (constant), default 0.
+    name : str
+        Used in messages and output file names.
+    """
+
+    def __init__(self, shape, *, model=None, velocity=None, name="wall"):
+        from .dummy import DummyParticles  # the default model
+
+        if shape is None or getattr(shape, "positions", None) is None:
+            raise ParameterError("WallSystem needs a shape with positions (e.g. seawall.shapes.tank(...))")
+        x = np.ascontiguousarray(shape.positions, dtype=np.float64)
+        if x.ndim != 2 or x.shape[1] not in (2, 3) or x.shape[0] == 0:
+            raise ParameterError(f"wall positions must be an (N, 2) or (N, 3) array with N > 0, got {x.shape}")
+        self.name = str(name)
+        self.dim = x.shape[1]
+        self.spacing = float(shape.spacing)
+        self.model = model if model is not None else DummyParticles()
+        if not isinstance(self.model, WallModel):
+            raise ParameterError(f"model must be a seawall wall model, got {type(self.model).__name__}")
+        n = x.shape[0]
+        self.particles = ParticleArrays(self.dim)
+        self.particles.add("x", x)
+        v = np.zeros((n, self.dim))
+        if velocity is not None:
+            v[:] = np.asarray(velocity, dtype=np.float64)
+        self.particles.add("v", v)
+        self.particles.add("a", np.zeros((n, self.dim)))
+        normals = getattr(shape, "normals", None)
+        surface = getattr(shape, "surface_points", None)
+        if normals is not None:
+            self.particles.add("normal", np.ascontiguousarray(normals, dtype=np.float64))
+        if surface is not None:
+            self.particles.add("surface", np.ascontiguousarray(surface, dtype=np.float64))
+        self.particles.add("id", np.arange(n, dtype=np.int64))
+        self.cells = None
+
+    @property
+    def n(self):
+        return self.particles.n
+
+    @property
+    def x(self):
+        return self.particles["x"]
+
+    def __repr__(self):
+        return f"WallSystem({self.name!r}, n={self.n}, model={self.model.describe()})"

@@ -1,0 +1,46 @@
+"""Command-line names of the wall models and how to build each from options.
+
+A factory takes the options given with ``--set KEY=VALUE`` that it knows
+(unknown keys are left for the case) and returns a WallModel.
+"""
+
+from ..errors import ParameterError
+from .dummy import DummyParticles
+
+
+def _adami(options):
+    return DummyParticles(slip="free", clip_negative_pressure=_flag(options.pop("clip_negative", False)))
+
+
+def _adami_noslip(options):
+    nu = options.pop("wall_nu", None)
+    return DummyParticles(slip="noslip", nu=None if nu is None else float(nu),
+                          clip_negative_pressure=_flag(options.pop("clip_negative", False)))
+
+
+def _flag(value):
+    if isinstance(value, bool):
+        return value
+    text = str(value).strip().lower()
+    if text in ("1", "true", "yes", "on"):
+        return True
+    if text in ("0", "false", "no", "off"):
+        return False
+    raise ParameterError(f"expected a true/false value, got {value!r}")
+
+
+#: name -> (factory, one-line description)
+BOUNDARIES = {
+    "adami": (_adami, "dummy particles, Adami et al. (2012) pressure extrapolation, free slip"),
+    "adami-noslip": (_adami_noslip, "dummy particles, Adami pressure extrapolation, no slip (Adami wall velocity)"),
+}
+
+
+def boundary_by_name(name, options=None):
+    """Build the wall model called ``name``; ``options`` (dict) is consumed for known keys."""
+    options = {} if options is None else options
+    try:
+        factory, _ = BOUNDARIES[name]
+    except KeyError:
+        raise ParameterError(f"unknown boundary {name!r}; available: {', '.join(BOUNDARIES)}") from None
+    return factory(options)

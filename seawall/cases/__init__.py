@@ -1,0 +1,23 @@
+"""The named cases, one definition each, shared by the CLI, tests, benchmarks and validation."""
+
+from ..errors import ParameterError
+from .base import Case, Parameter
+from .tanks import COLLAPSE, DAM_BREAK, DAM_BREAK_3D, HYDROSTATIC
+
+CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D)}
+
+
+def case_by_name(name):
+    """Return the :class:`Case` called ``name``."""
+    try:
+        return CASES[name]
+    except KeyError:
+        raise ParameterError(f"unknown case {name!r}; available: {', '.join(CASES)}") from None
+
+
+def build(name, **params):
+    """Build case ``name`` (see ``seawall cases``) and return its Simulation."""
+    return case_by_name(name).build(**params)
+
+
+__all__ = ["CASES", "Case", "Parameter", "case_by_name", "build"]

@@ -1,0 +1,213 @@
+"""Water in tanks: the hydrostatic tank, the 2D/3D dam breaks and the column collapse.
+
+Fluid settings shared by these cases (literature defaults): Tait EOS with
+gamma = 7, artificial viscosity alpha = 0.02 (Marrone et al. 2011),
+delta-SPH with delta = 0.1 (Antuono et al. 2010), cubic spline with
+h = 1.3 dx, symplectic integrator with CFL 0.2 (Monaghan & Kos 1999).
+The speed of sound is 10 times the largest expected speed, sqrt(2 g H)
+for a collapsing column of height H (Monaghan 1994), so Mach <= 0.1.
+"""
+
+import math
+
+import numpy as np
+
+from .. import probes, shapes
+from ..boundary.base import WallSystem
+from ..eos import Tait
+from ..errors import ParameterError, require_positive
+from ..fluid import ArtificialViscosity, DeltaSPH, FluidSystem
+from ..integrators import Symplectic
+from ..kernels import CubicSpline
+from ..simulation import Simulation
+from .base import GRAVITY, Case, Parameter, wall_layers
+
+RHO0 = 1000.0
+
+
+def _fluid(block, *, c0, alpha, delta, pressure=None):
+    return FluidSystem(block, rho0=RHO0, eos=Tait(c0=c0, gamma=7.0),
+                       viscosity=ArtificialViscosity(alpha=alpha) if alpha > 0 else None,
+                       density_diffusion=DeltaSPH(delta=delta) if delta > 0 else None,
+                       pressure=pressure)
+
+
+def _hydrostatic(depth, c0, dim):
+    """Initial pressure rho0 g (H - y) of still water, y the last axis."""
+    def pressure(x):
+        return RHO0 * GRAVITY * np.maximum(depth - x[:, dim - 1], 0.0)
+    return pressure
+
+
+def _gravity(dim):
+    g = [0.0] * dim
+    g[-1] = -GRAVITY
+    return g
+
+
+def snap(length, dx):
+    """Length rounded to a whole number of particle spacings (tank walls share the fluid's lattice)."""
+    return max(1, round(length / dx)) * dx
+
+
+def _common(params):
+    dx = require_positive("dx", params["dx"])
+    h = require_positive("h", params["h_factor"] * dx)
+    return dx, h
+
+
+COMMON = {
+    "dx": Parameter(None, "particle spacing [m]"),
+    "h_factor": Parameter(1.3, "smoothing length h / dx"),
+    "c0": Parameter(None, "speed of sound [m/s] (default 10 sqrt(2 g H))"),
+    "alpha": Parameter(0.02, "artificial viscosity alpha"),
+    "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
+    "cfl": Parameter(0.2, "CFL number"),
+}
+
+
+# ---------------------------------------------------------------- hydrostatic
+def build_hydrostatic(params, wall_model, threads):
+    """Still water in a tank (seed 001, sec. 4.1): probes P0-P3 on the left wall."""
+    if params["dx"] is None:
+        params["dx"] = 0.01
+    dx, h = _common(params)
+    depth = require_positive("depth", params["depth"])
+    length = require_positive("length", params["length"])
+    if depth >= params["height"]:
+        raise ParameterError(f"depth ({depth} m) must be below the tank height ({params['height']} m)")
+    c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * depth)
+    params["c0"] = c0
+    kernel = CubicSpline()
+    fluid = _fluid(shapes.rectangle((0.0, 0.0), (length, depth), dx), c0=c0, alpha=params["alpha"],
+                   delta=params["delta"],
+                   pressure=_hydrostatic(depth, c0, 2) if params["initial"] == "hydrostatic" else None)
+    if params["initial"] not in ("hydrostatic", "rest"):
+        raise ParameterError(f"initial must be 'hydrostatic' or 'rest', got {params['initial']!r}")
+    tank = shapes.tank((0.0, 0.0), (snap(length, dx), snap(params["height"], dx)), dx, layers=wall_layers(kernel, h, dx))
+    walls = WallSystem(tank, model=wall_model(), name="tank")
+    sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
+                     integrator=Symplectic(cfl=params["cfl"]), threads=threads)
+    for k, y in enumerate((0.0, 0.1, 0.2, 0.25)):
+        if y <= depth:
+            sim.add(probes.WallPressure(f"P{k}", (0.0, y)))
+    sim.add(probes.KineticEnergy(), probes.TotalMass())
+    sim.reference = {"type": "hydrostatic", "depth": depth, "rho0": RHO0, "g": GRAVITY}
+    return sim
+
+
+HYDROSTATIC = Case(
+    name="hydrostatic",
+    description="still water 0.3 m deep in a 1 m tank, wall pressure probes P0-P3 (seed 001 sec. 4.1)",
+    builder=build_hydrostatic,
+    parameters={**COMMON,
+                "depth": Parameter(0.3, "water depth [m]"),
+                "length": Parameter(1.0, "tank length [m]"),
+                "height": Parameter(0.4, "tank wall height [m]"),
+                "initial": Parameter("hydrostatic", "initial pressure: hydrostatic or rest", str)},
+    t_end=2.0, probe_every=2e-3, output_every=0.05)
+
+
+# ---------------------------------------------------------------- dam break 2D
+def build_dam_break(params, wall_model, threads):
+    """2D dam break: column 2H x H at the left wall of a tank 5.366 H long, 2 H high.
+
+    H = 0.3 m is the "ETSIN" experiment (Lobovsky et al. 2014) used by seed
+    003; H = 0.6 m the case of seed 001 (Buchner 2002 sensor P1). Sensors on
+    the downstream wall: S1-S4 at y = 0.010, 0.050, 0.100, 0.2667 H (the
+    experiment's sensors) and P1 at y = 0.2 H.
+    """
+    H = require_positive("H", params["H"])
+    if params["dx"] is None:
+        params["dx"] = H / 50.0
+    dx, h = _common(params)
+    c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * H)
+    params["c0"] = c0
+    length = snap(5.366 * H, dx)
+    kernel = CubicSpline()
+    fluid = _fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), c0=c0, alpha=params["alpha"],
+                   delta=params["delta"])
+    tank = shapes.tank((0.0, 0.0), (length, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
+    walls = WallSystem(tank, model=wall_model(), name="tank")
+    sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
+                     integrator=Symplectic(cfl=params["cfl"]), threads=threads)
+    for name, frac in (("S1", 0.010), ("S2", 0.050), ("S3", 0.100), ("S4", 0.2667), ("P1", 0.2)):
+        sim.add(probes.WallPressure(name, (length, frac * H)))
+    sim.add(probes.SurgeFront("front"), probes.KineticEnergy(), probes.TotalMass())
+    return sim
+
+
+DAM_BREAK = Case(
+    name="dam-break",
+    description="2D dam break, column 2H x H in a 5.366 H tank, wall sensors S1-S4, P1 and surge front",
+    builder=build_dam_break,
+    parameters={**COMMON, "H": Parameter(0.3, "column height [m] (0.3 ETSIN, 0.6 Buchner)")},
+    t_end=1.5, probe_every=5e-4, output_every=0.02)
+
+
+# ---------------------------------------------------------------- collapse
+def build_collapse(params, wall_model, threads):
+    """Koshizuka & Oka (1996) column collapse (seed 003 sec. 4.4).
+
+    Column a = 0.146 m wide and 2a high (n^2 = 2 in Martin & Moyce's terms)
+    in a tank 4a long; probe ``front`` is the x of the foremost particle.
+    """
+    a = require_positive("width", params["width"])
+    if params["dx"] is None:
+        params["dx"] = a / 40.0
+    dx, h = _common(params)
+    height = 2.0 * a
+    c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * height)
+    params["c0"] = c0
+    kernel = CubicSpline()
+    fluid = _fluid(shapes.rectangle((0.0, 0.0), (a, height), dx), c0=c0, alpha=params["alpha"],
+                   delta=params["delta"])
+    tank = shapes.tank((0.0, 0.0), (snap(4.0 * a, dx), snap(2.4 * a, dx)), dx, layers=wall_layers(kernel, h, dx))
+    walls = WallSystem(tank, model=wall_model(), name="tank")
+    sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
+                     integrator=Symplectic(cfl=params["cfl"]), threads=threads)
+    sim.add(probes.SurgeFront("front"), probes.KineticEnergy(), probes.TotalMass())
+    sim.reference = {"type": "collapse", "a": a}
+    return sim
+
+
+COLLAPSE = Case(
+    name="collapse",
+    description="Koshizuka & Oka column collapse, 0.146 x 0.292 m column in a 0.584 m tank, surge front",
+    builder=build_collapse,
+    parameters={**COMMON, "width": Parameter(0.146, "column width a [m] (height 2a, tank 4a)")},
+    t_end=0.5, probe_every=1e-3, output_every=0.01)
+
+
+# ---------------------------------------------------------------- dam break 3D
+def build_dam_break_3d(params, wall_model, threads):
+    """3D dam break: column 2H x W x H at the end of a box 5.366 H x W x 2H (W = width_factor H)."""
+    H = require_positive("H", params["H"])
+    if params["dx"] is None:
+        params["dx"] = H / 15.0
+    dx, h = _common(params)
+    W = require_positive("width_factor", params["width_factor"]) * H
+    c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * H)
+    params["c0"] = c0
+    length = snap(5.366 * H, dx)
+    W = snap(W, dx)
+    kernel = CubicSpline()
+    fluid = _fluid(shapes.box((0.0, 0.0, 0.0), (2.0 * H, W, H), dx), c0=c0, alpha=params["alpha"],
+                   delta=params["delta"])
+    tank = shapes.tank((0.0, 0.0, 0.0), (length, W, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
+    walls = WallSystem(tank, model=wall_model(), name="tank")
+    sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(3),
+                     integrator=Symplectic(cfl=params["cfl"]), threads=threads)
+    for name, frac in (("S1", 0.010), ("S3", 0.100), ("P1", 0.2)):
+        sim.add(probes.WallPressure(name, (length, 0.5 * W, frac * H)))
+    sim.add(probes.SurgeFront("front"), probes.KineticEnergy(), probes.TotalMass())
+    return sim
+
+
+DAM_BREAK_3D = Case(
+    name="dam-break-3d",
+    description="3D dam break, column 2H x 0.5H x H in a 5.366H x 0.5H x 2H box, wall sensors and front",
+    builder=build_dam_break_3d,
+    parameters={**COMMON, "H": Parameter(0.3, "column height [m]"),
+                "width_factor": Parameter(0.5, "tank width / H")},
+    t_end=1.0, probe_every=1e-3, output_every=0.02, dimension=3)

@@ -1,0 +1,254 @@
+"""Command line: ``seawall cases | boundaries | run | bench``.
+
+The output files of ``run`` (probes.csv, summary.json, the VTU/PVD series)
+and the JSON line of ``bench`` are a contract other tools rely on: columns
+and keys may be added, never renamed or dropped.
+"""
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+
+EXIT_BAD_INPUT = 2
+EXIT_UNSTABLE = 3
+
+
+def _parse_sets(items):
+    params = {}
+    for item in items or []:
+        if "=" not in item:
+            raise _bad_input(f"--set expects KEY=VALUE, got {item!r}")
+        key, value = item.split("=", 1)
+        key = key.strip().replace("-", "_")
+        if not key:
+            raise _bad_input(f"--set expects KEY=VALUE, got {item!r}")
+        params[key] = value.strip()
+    return params
+
+
+def _bad_input(message):
+    from .errors import ParameterError
+
+    return ParameterError(message)
+
+
+def _positive(name):
+    def parse(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        if not (value > 0) or not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{name} must be a positive number, got {text!r}")
+        return value
+    return parse
+
+
+def _positive_int(name):
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a whole number, got {text!r}") from None
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"{name} must be at least 1, got {text!r}")
+        return value
+    return parse
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(
+        prog="seawall", description="SPH with swappable, validated solid walls.")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    sub.add_parser("cases", help="list the named cases")
+    sub.add_parser("boundaries", help="list the wall models")
+
+    run = sub.add_parser("run", help="run a case and write probes.csv, summary.json and VTU files")
+    run.add_argument("case")
+    run.add_argument("--boundary", default="adami", help="wall model (see 'seawall boundaries'), default adami")
+    run.add_argument("--dx", type=_positive("--dx"), help="particle spacing [m] (case default otherwise)")
+    run.add_argument("--t-end", type=_positive("--t-end"), help="simulated end time [s] (case default otherwise)")
+    run.add_argument("--out", help="output directory (default runs/CASE-BOUNDARY)")
+    run.add_argument("--threads", type=_positive_int("--threads"), help="threads of the compiled loops")
+    run.add_argument("--set", action="append", metavar="KEY=VALUE", help="case or wall-model parameter")
+    run.add_argument("--output-every", type=_positive("--output-every"), help="VTU interval [s]")
+    run.add_argument("--probe-every", type=_positive("--probe-every"), help="probe sampling interval [s]")
+    run.add_argument("--checkpoint-every", type=_positive("--checkpoint-every"),
+                     help="HDF5 checkpoint interval [s] (default t_end/10)")
+    run.add_argument("--restart", metavar="CHECKPOINT", help="continue from a checkpoint of the same case")
+    run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
+    run.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    bench = sub.add_parser("bench", help="time a fixed number of steps; print one JSON line")
+    bench.add_argument("case")
+    bench.add_argument("--boundary", default="adami")
+    bench.add_argument("--dx", type=_positive("--dx"))
+    bench.add_argument("--steps", type=_positive_int("--steps"), default=100)
+    bench.add_argument("--threads", type=_positive_int("--threads"))
+    bench.add_argument("--set", action="append", metavar="KEY=VALUE")
+    return parser
+
+
+def cmd_cases(_args):
+    from .cases import CASES
+
+    width = max(len(n) for n in CASES)
+    for name, case in CASES.items():
+        print(f"{name:<{width}}  {case.dimension}D  {case.description}")
+    return 0
+
+
+def cmd_boundaries(_args):
+    from .boundary.registry import BOUNDARIES
+
+    width = max(len(n) for n in BOUNDARIES)
+    for name, (_, description) in BOUNDARIES.items():
+        print(f"{name:<{width}}  {description}")
+    return 0
+
+
+def _build(args):
+    from .cases import case_by_name
+    from .errors import ParameterError
+
+    case = case_by_name(args.case)
+    params = _parse_sets(args.set)
+    if args.dx is not None:
+        params["dx"] = args.dx
+    if "dx" in params and "dx" not in case.parameters:
+        raise ParameterError(f"case {case.name!r} takes no dx")
+    sim = case.build(boundary=args.boundary, threads=args.threads, **params)
+    return case, sim
+
+
+def cmd_run(args):
+    from . import output
+    from .errors import InstabilityError
+
+    case, sim = _build(args)
+    t_end = args.t_end or case.t_end
+    out = args.out or os.path.join("runs", f"{case.name}-{args.boundary}")
+    os.makedirs(out, exist_ok=True)
+    sim.add(every=args.probe_every or case.probe_every)
+    if not args.no_vtk:
+        sim.add(output.VTK(out, every=args.output_every or case.output_every))
+    sim.add(output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0))
+    if args.restart:
+        sim.restart(args.restart)
+    n_total = sim.fluid.n + sum(w.n for w in sim.walls)
+    print(f"seawall run {case.name}: boundary {args.boundary}, {sim.dim}D, {sim.fluid.n} fluid + "
+          f"{n_total - sim.fluid.n} wall particles, dx = {sim.fluid.spacing:g} m, t_end = {t_end:g} s -> {out}",
+          flush=True)
+    status = "completed"
+    error = None
+    started = time.perf_counter()
+    try:
+        result = sim.run(t_end, progress=not args.no_progress, probe_csv=os.path.join(out, "probes.csv"))
+        summary = result.summary
+    except InstabilityError as exc:
+        status = "unstable"
+        error = str(exc)
+        summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
+                              steps=sim.step, startup=0.0)
+        result = None
+    except KeyboardInterrupt:
+        status = "interrupted"
+        error = f"interrupted at t = {sim.time:.6g} s"
+        summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
+                              steps=sim.step, startup=0.0)
+        result = None
+    summary = {"case": case.name, "boundary": args.boundary, **summary, "status": status}
+    if error:
+        summary["error"] = error
+    if result is not None:
+        summary["probes"] = _probe_summary(result)
+    summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
+                        "checkpoint": "checkpoint.h5"}
+    with open(os.path.join(out, "summary.json"), "w") as fh:
+        json.dump(_jsonable(summary), fh, indent=2)
+    _print_summary(summary)
+    if status == "unstable":
+        print(f"seawall: error: {error}", file=sys.stderr)
+        return EXIT_UNSTABLE
+    if status == "interrupted":
+        return 130
+    return 0
+
+
+def _probe_summary(result):
+    out = {}
+    for name, values in result.probes.items():
+        finite = values[~(values != values)]
+        out[name] = {"final": float(values[-1]) if values.size else None,
+                     "max": float(finite.max()) if finite.size else None,
+                     "min": float(finite.min()) if finite.size else None}
+    return out
+
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if hasattr(obj, "item"):
+        return obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _print_summary(s):
+    print(f"\n{s['case']} with {s['boundary']}: {s['status']} at t = {s['t_end']:.4g} s after {s['steps']} steps")
+    print(f"  particles     {s['n_fluid']} fluid, {s['n_wall']} wall ({s['dimension']}D)")
+    print(f"  wall time     {s['wall_time_s']:.1f} s ({s.get('startup_s', 0.0):.1f} s start-up incl. compilation)")
+    print(f"  speed         {s['particle_steps_per_s'] / 1e6:.3f} M particle-steps/s")
+    print(f"  escaped       {s['escaped_particles']} particles;  mass drift {s['mass_drift']:.2e}")
+    for name, p in (s.get("probes") or {}).items():
+        if p["max"] is None:
+            continue
+        print(f"  probe {name:<14} final {p['final']:12.5g}   min {p['min']:12.5g}   max {p['max']:12.5g}")
+
+
+def cmd_bench(args):
+    from .simulation import Simulation  # noqa: F401  (import cost outside the timing)
+
+    case, sim = _build(args)
+    t0 = time.perf_counter()
+    sim.run_steps(2)  # compiles (or loads the cache) and warms up
+    compile_s = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    sim.run_steps(args.steps)
+    seconds = time.perf_counter() - t1
+    import numba
+
+    n_wall = sum(w.n for w in sim.walls)
+    n_particles = sim.fluid.n + n_wall
+    line = {"case": case.name, "boundary": args.boundary, "dimension": sim.dim,
+            "n_particles": n_particles, "n_fluid": sim.fluid.n, "n_wall": n_wall,
+            "steps": args.steps, "seconds": seconds,
+            "particle_steps_per_s": n_particles * args.steps / seconds,
+            "compile_seconds": compile_s, "threads": numba.get_num_threads(), "dx": sim.fluid.spacing}
+    print(json.dumps(line))
+    return 0
+
+
+def main(argv=None):
+    from .errors import ParameterError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench}
+    try:
+        return handlers[args.command](args)
+    except ParameterError as exc:
+        print(f"seawall: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())

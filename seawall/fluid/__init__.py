@@ -1,0 +1,6 @@
+"""The weakly compressible fluid system and its constitutive models."""
+
+from .models import ArtificialViscosity, DeltaSPH, LaminarViscosity, MolteniColagrossi
+from .system import FluidSystem
+
+__all__ = ["FluidSystem", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH"]

@@ -1,0 +1,273 @@
+"""Compiled fluid-fluid loops: equation of state, density and momentum rates.
+
+Each fluid particle gathers over its neighbours (no atomics, no races), so
+the loops run in parallel with ``prange``. Formulas and their sources:
+
+* continuity: drho_i/dt = sum_j m_j v_ij . grad_i W_ij            (seed 000, eq. 8)
+* summation:  rho_i = sum_j m_j W_ij                               (seed 000, eq. 7)
+* momentum:   dv_i/dt = -sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij + g
+                                                                   (seed 000, eq. 5)
+* artificial viscosity Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2)/rho_ij, for
+  v_ij . r_ij < 0, mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2)         (seed 000, eq. 6)
+* laminar viscosity: + sum_j m_j (mu_i + mu_j)/(rho_i rho_j) v_ij (r_ij . grad_i W_ij)/(r_ij^2 + eta^2),
+  with dynamic viscosity mu = rho nu                               (seed 003, eq. 9)
+* density diffusion: + delta h c0 sum_j (m_j/rho_j) psi_ij . grad_i W_ij  (seed 003, eq. 12)
+  psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2                       (Molteni & Colagrossi 2009)
+  psi_ij -= (<grad rho>_i^L + <grad rho>_j^L)                       (seed 003, eq. 13; seed 001 sec. 2.1)
+  The extracted eq. 13 of seed 003 reads 2(rho_i - rho_j) r_ij, which is the
+  same vector (both factors change sign); see docs/formulas.md.
+* renormalised gradient <grad rho>_i^L = L_i sum_j V_j (rho_j - rho_i) grad_i W_ij,
+  L_i = [sum_j V_j grad_i W_ij (x) (x_j - x_i)]^-1                  (seed 003, eq. 14-15)
+* tensile correction: f_ten = (R_i + R_j) (W_ij / W(dx))^4, R_k = eps p_k / rho_k^2,
+  eps = 0.01 for p_k > 0 and -0.2 otherwise                         (seed 000, eq. 20;
+  the extracted text lost the square of rho_k, restored from Monaghan 2000)
+* XSPH: dx_i/dt = v_i + eps sum_j (m_j / rho_ij) (v_j - v_i) W_ij   (seed 000, eq. 10;
+  the extracted text lost the sign of v_ij, restored from Monaghan 1989)
+"""
+
+import numpy as np
+from numba import njit, prange
+
+from ..eos import eos_pressure, eos_sound_speed
+from ..kernels import kernel_shape, kernel_shape_dq
+from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def equation_of_state(rho, prm, p, c):
+    """Pressure and sound speed of every particle from its density."""
+    for i in prange(rho.shape[0]):
+        p[i] = eos_pressure(prm.eos, rho[i], prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        c[i] = eos_sound_speed(prm.eos, rho[i], prm.rho0, prm.c0, prm.gamma)
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncell, period, prm, same, rho):
+    """Density by summation, rho_i = sum_j m_j W_ij (seed 000, eq. 7).
+
+    With ``same`` the set b is the fluid itself: rho is overwritten and the
+    self term m_i W(0) included. Otherwise b is a wall whose (hydrodynamic)
+    masses are added to rho.
+    """
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    n = x.shape[0]
+    inv_h = 1.0 / prm.h
+    nrows = 25 if dim == 3 else 5
+    w0 = prm.sigma * kernel_shape(prm.kernel, 0.0)
+    for i in prange(n):
+        p0, p1, p2 = point_of(x, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        acc = m[i] * w0 if same else rho[i]
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start_b)
+                for k in range(ka, kb):
+                    j = order_b[k]
+                    if same and j == i:
+                        continue
+                    q0, q1, q2 = point_of(xb, j, dim)
+                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
+                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
+                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
+                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    if r2 < prm.support2:
+                        acc += mb[j] * prm.sigma * kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
+        rho[i] = acc
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def renormalised_density_gradient(layout, x, rho, m, start, order, lo, inv_cell, ncell, period, prm, grad):
+    """<grad rho>_i^L of seed 003 eq. 14-15 (Randles & Libersky renormalisation).
+
+    Where the renormalisation matrix is nearly singular (a particle with few
+    neighbours, e.g. a droplet) its determinant falls below 1e-2 (it is ~1 in
+    the bulk); there the plain kernel gradient is used instead.
+    """
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    n = x.shape[0]
+    inv_h = 1.0 / prm.h
+    nrows = 25 if dim == 3 else 5
+    dwq = prm.sigma * inv_h
+    for i in prange(n):
+        p0, p1, p2 = point_of(x, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        a00 = a01 = a02 = a11 = a12 = a22 = 0.0
+        g0 = g1 = g2 = 0.0
+        rhoi = rho[i]
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    j = order[k]
+                    if j == i:
+                        continue
+                    q0, q1, q2 = point_of(x, j, dim)
+                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
+                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
+                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
+                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    r = np.sqrt(r2)
+                    # grad_i W = F r_ij, and x_j - x_i = -r_ij
+                    f = dwq * kernel_shape_dq(prm.kernel, r * inv_h) / r
+                    vol = m[j] / rho[j]
+                    s = -f * vol
+                    a00 += s * d0 * d0
+                    a01 += s * d0 * d1
+                    a02 += s * d0 * d2
+                    a11 += s * d1 * d1
+                    a12 += s * d1 * d2
+                    a22 += s * d2 * d2
+                    t = vol * (rho[j] - rhoi) * f
+                    g0 += t * d0
+                    g1 += t * d1
+                    g2 += t * d2
+        if dim == 2:
+            det = a00 * a11 - a01 * a01
+            if det > 1e-2:
+                grad[i, 0] = (a11 * g0 - a01 * g1) / det
+                grad[i, 1] = (-a01 * g0 + a00 * g1) / det
+            else:
+                grad[i, 0] = g0
+                grad[i, 1] = g1
+        else:
+            c00 = a11 * a22 - a12 * a12
+            c01 = a02 * a12 - a01 * a22
+            c02 = a01 * a12 - a02 * a11
+            det = a00 * c00 + a01 * c01 + a02 * c02
+            if det > 1e-2:
+                c11 = a00 * a22 - a02 * a02
+                c12 = a01 * a02 - a00 * a12
+                c22 = a00 * a11 - a01 * a01
+                grad[i, 0] = (c00 * g0 + c01 * g1 + c02 * g2) / det
+                grad[i, 1] = (c01 * g0 + c11 * g1 + c12 * g2) / det
+                grad[i, 2] = (c02 * g0 + c12 * g1 + c22 * g2) / det
+            else:
+                grad[i, 0] = g0
+                grad[i, 1] = g1
+                grad[i, 2] = g2
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell, ncell, period, prm,
+                dv, drho, xsph, mu_max):
+    """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
+
+    Overwrites ``dv``, ``drho``, ``xsph``; ``mu_max[i]`` receives max_j |mu_ij|
+    for the Monaghan-Kos time-step criterion (seed 000, eq. 11). Gravity is
+    added here too, so wall models only add their own terms afterwards.
+    """
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    n = x.shape[0]
+    h = prm.h
+    inv_h = 1.0 / h
+    nrows = 25 if dim == 3 else 5
+    dwq = prm.sigma * inv_h
+    alpha = prm.alpha
+    beta = prm.beta
+    nu = prm.nu
+    eta2 = prm.eta2
+    diffusion = prm.diffusion
+    renorm = diffusion == DIFFUSION_RENORMALISED
+    diff_coef = prm.delta * h * prm.c0
+    tensile = prm.tensile
+    use_xsph = prm.xsph > 0.0
+    for i in prange(n):
+        p0, p1, p2 = point_of(x, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        vi0, vi1, vi2 = point_of(v, i, dim)
+        rhoi = rho[i]
+        pi = p[i]
+        ci = c[i]
+        pr_i = pi / (rhoi * rhoi)
+        if tensile:
+            ri = (0.01 if pi > 0.0 else -0.2) * pi / (rhoi * rhoi)
+        else:
+            ri = 0.0
+        if renorm:
+            gi0, gi1, gi2 = point_of(grad_rho, i, dim)
+        else:
+            gi0 = gi1 = gi2 = 0.0
+        a0 = a1 = a2 = 0.0
+        dr = 0.0
+        x0 = x1 = x2 = 0.0
+        mumax = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    j = order[k]
+                    if j == i:
+                        continue
+                    q0, q1, q2 = point_of(x, j, dim)
+                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
+                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
+                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
+                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    r = np.sqrt(r2)
+                    qq = r * inv_h
+                    f = dwq * kernel_shape_dq(prm.kernel, qq) / r  # grad_i W = f r_ij
+                    mj = m[j]
+                    rhoj = rho[j]
+                    vj0, vj1, vj2 = point_of(v, j, dim)
+                    u0 = vi0 - vj0
+                    u1 = vi1 - vj1
+                    u2 = vi2 - vj2
+                    vr = u0 * d0 + u1 * d1 + u2 * d2
+                    # continuity (eq. 8): m_j v_ij . grad W
+                    dr += mj * vr * f
+                    # pressure (eq. 5)
+                    coef = pr_i + p[j] / (rhoj * rhoj)
+                    if tensile:
+                        pj = p[j]
+                        rj = (0.01 if pj > 0.0 else -0.2) * pj / (rhoj * rhoj)
+                        wr = prm.sigma * kernel_shape(prm.kernel, qq) * prm.inv_w_dx
+                        wr2 = wr * wr
+                        coef += (ri + rj) * wr2 * wr2
+                    mu = h * vr / (r2 + eta2)
+                    amu = abs(mu)
+                    if amu > mumax:
+                        mumax = amu
+                    if alpha > 0.0 and vr < 0.0:
+                        rho_ab = 0.5 * (rhoi + rhoj)
+                        c_ab = 0.5 * (ci + c[j])
+                        coef += (-alpha * c_ab * mu + beta * mu * mu) / rho_ab
+                    s = -mj * coef * f
+                    a0 += s * d0
+                    a1 += s * d1
+                    a2 += s * d2
+                    if nu > 0.0:
+                        lam = mj * nu * (rhoi + rhoj) / (rhoi * rhoj) * f * r2 / (r2 + eta2)
+                        a0 += lam * u0
+                        a1 += lam * u1
+                        a2 += lam * u2
+                    if diffusion != DIFFUSION_NONE:
+                        # psi_ij . grad W with psi_ij = 2 (rho_j - rho_i) r_ji/r^2 - (gL_i + gL_j)
+                        psi_dot = -2.0 * (rhoj - rhoi) * f
+                        if renorm:
+                            gj0, gj1, gj2 = point_of(grad_rho, j, dim)
+                            psi_dot -= ((gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2) * f
+                        dr += diff_coef * mj / rhoj * psi_dot
+                    if use_xsph:
+                        wx = prm.sigma * kernel_shape(prm.kernel, qq) * mj / (0.5 * (rhoi + rhoj))
+                        x0 -= wx * u0
+                        x1 -= wx * u1
+                        x2 -= wx * u2
+        dv[i, 0] = a0 + prm.gx
+        dv[i, 1] = a1 + prm.gy
+        if dim == 3:
+            dv[i, 2] = a2 + prm.gz
+        drho[i] = dr
+        eps = prm.xsph
+        xsph[i, 0] = eps * x0
+        xsph[i, 1] = eps * x1
+        if dim == 3:
+            xsph[i, 2] = eps * x2
+        mu_max[i] = mumax

@@ -1,0 +1,107 @@
+"""The weakly compressible fluid: particles plus their constitutive choices."""
+
+import numpy as np
+
+from ..eos import EquationOfState, Tait
+from ..errors import ParameterError, require_nonnegative, require_positive
+from ..particles import ParticleArrays
+from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi
+
+DENSITY_MODES = ("continuity", "summation")
+
+
+class FluidSystem:
+    """A body of weakly compressible fluid.
+
+    Parameters
+    ----------
+    shape : seawall.shapes.Shape
+        Initial particle positions and spacing (e.g. ``shapes.rectangle``).
+    rho0 : float
+        Reference density [kg/m^3], default 1000.
+    eos : EquationOfState
+        Default ``Tait(c0=...)`` must be given: the speed of sound sets the
+        time step and is problem dependent (~10 x the largest flow speed).
+    viscosity : ArtificialViscosity | LaminarViscosity | list of both | None
+        Default ``ArtificialViscosity(alpha=0.02)`` (Marrone et al. 2011).
+    density_diffusion : MolteniColagrossi | DeltaSPH | None
+        Default None.
+    density : {"continuity", "summation"}
+        Density by the continuity equation (seed 000 eq. 8, default) or by
+        summation (eq. 7).
+    tensile_correction : bool
+        Monaghan (2000) tensile correction, seed 000 eq. 20 (default off).
+    xsph : float
+        XSPH epsilon of seed 000 eq. 10 (0 = off, the seed uses 0.5).
+    velocity : array-like, optional
+        Initial velocity, a constant vector or an (N, d) array [m/s].
+    pressure : callable or array, optional
+        Initial pressure [Pa] as an (N,) array or a function of the (N, d)
+        positions; the density follows from the inverse EOS. Default: zero
+        pressure (reference density).
+    """
+
+    def __init__(self, shape, *, rho0=1000.0, eos=None, viscosity="default",
+                 density_diffusion=None, density="continuity", tensile_correction=False,
+                 xsph=0.0, velocity=None, pressure=None, name="fluid"):
+        x = np.ascontiguousarray(getattr(shape, "positions", None), dtype=np.float64)
+        if x.ndim != 2 or x.shape[1] not in (2, 3) or x.shape[0] == 0:
+            raise ParameterError(f"fluid positions must be an (N, 2) or (N, 3) array with N > 0, got {x.shape}")
+        self.name = str(name)
+        self.dim = x.shape[1]
+        self.spacing = require_positive("dx", shape.spacing)
+        self.rho0 = require_positive("rho0", rho0)
+        if eos is None:
+            raise ParameterError("eos is required, e.g. eos=seawall.Tait(c0=20.0)")
+        if not isinstance(eos, EquationOfState):
+            raise ParameterError(f"eos must be seawall.Tait or seawall.Linear, got {type(eos).__name__}")
+        self.eos = eos
+        if viscosity == "default":
+            viscosity = ArtificialViscosity(alpha=0.02)
+        models = [] if viscosity is None else (list(viscosity) if isinstance(viscosity, (list, tuple)) else [viscosity])
+        self.artificial_viscosity = None
+        self.laminar_viscosity = None
+        for vm in models:
+            if isinstance(vm, ArtificialViscosity):
+                self.artificial_viscosity = vm
+            elif isinstance(vm, LaminarViscosity):
+                self.laminar_viscosity = vm
+            else:
+                raise ParameterError(f"viscosity must be ArtificialViscosity, LaminarViscosity, a list of them or None; got {vm!r}")
+        if density_diffusion is not None and not isinstance(density_diffusion, MolteniColagrossi):
+            raise ParameterError(f"density_diffusion must be MolteniColagrossi, DeltaSPH or None; got {density_diffusion!r}")
+        self.density_diffusion = density_diffusion
+        if density not in DENSITY_MODES:
+            raise ParameterError(f"density must be one of {', '.join(DENSITY_MODES)}; got {density!r}")
+        self.density_mode = density
+        self.tensile_correction = bool(tensile_correction)
+        self.xsph = require_nonnegative("xsph", xsph)
+
+        n = x.shape[0]
+        pa = ParticleArrays(self.dim)
+        pa.add("x", x)
+        v = np.zeros((n, self.dim))
+        if velocity is not None:
+            v[:] = np.asarray(velocity, dtype=np.float64)
+        pa.add("v", v)
+        pa.add("m", np.full(n, self.rho0 * self.spacing ** self.dim))
+        if pressure is None:
+            p0 = np.zeros(n)
+        elif callable(pressure):
+            p0 = np.asarray(pressure(x.copy()), dtype=np.float64).reshape(n)
+        else:
+            p0 = np.asarray(pressure, dtype=np.float64).reshape(n)
+        rho = np.asarray(eos.density(p0 + eos.background_pressure, self.rho0), dtype=np.float64)
+        pa.add("rho", rho)
+        pa.add("p", np.zeros(n))
+        pa.add("c", np.zeros(n))
+        pa.add("id", np.arange(n, dtype=np.int64))
+        self.particles = pa
+        self.initial_mass = float(pa["m"].sum())
+
+    @property
+    def n(self):
+        return self.particles.n
+
+    def __repr__(self):
+        return f"FluidSystem({self.name!r}, n={self.n}, rho0={self.rho0}, eos={self.eos!r})"

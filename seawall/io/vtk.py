@@ -1,0 +1,360 @@
+"""ParaView output: VTK XML UnstructuredGrid (.vtu) files and .pvd time series.
+
+Only numpy and the standard library are used. Every particle is written as
+its own VTK_VERTEX cell, arrays use the inline ``binary`` encoding (base64 of
+a UInt64 byte count followed by the little-endian payload, encoded as one
+stream like VTK itself does), and every file is written to a temporary file
+in the target directory and then renamed over the target, so readers never
+see a half-written file.
+"""
+
+import base64
+import contextlib
+import math
+import os
+import re
+import uuid
+import xml.etree.ElementTree as ET
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+__all__ = ["write_vtu", "read_vtu", "PVDSeries"]
+
+_VTK_VERTEX = 1
+
+# numpy dtype (little-endian) <-> VTK type name; the writer maps bool to UInt8.
+_VTK_TYPES = {
+    "Float32": np.dtype("<f4"),
+    "Float64": np.dtype("<f8"),
+    "Int8": np.dtype("<i1"),
+    "Int16": np.dtype("<i2"),
+    "Int32": np.dtype("<i4"),
+    "Int64": np.dtype("<i8"),
+    "UInt8": np.dtype("<u1"),
+    "UInt16": np.dtype("<u2"),
+    "UInt32": np.dtype("<u4"),
+    "UInt64": np.dtype("<u8"),
+}
+_HEADER_TYPES = {"UInt32": np.dtype("<u4"), "UInt64": np.dtype("<u8")}
+_HEADER_TYPE = "UInt64"
+
+
+# --------------------------------------------------------------------------
+# atomic file replacement (shared with the other seawall.io modules)
+
+def _fsync_dir(directory):
+    # Makes the rename itself durable; not possible on every platform.
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def _atomic_write(path, mode="wb", **open_kwargs):
+    """Open a temporary sibling of ``path``; on success rename it over ``path``.
+
+    On any exception the temporary file is removed and ``path`` is untouched.
+    """
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    tmp = os.path.join(directory, f".{os.path.basename(path)}.{uuid.uuid4().hex[:12]}.tmp")
+    # os.open with 0o666 honours the umask, unlike tempfile's private 0o600.
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    try:
+        with os.fdopen(fd, mode, **open_kwargs) as fh:
+            yield fh
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.remove(tmp)
+        raise
+    _fsync_dir(directory)
+
+
+# --------------------------------------------------------------------------
+# .vtu writing
+
+def _vtk_type_of(dtype):
+    """VTK type name and the little-endian numpy dtype to write ``dtype`` as."""
+    if dtype == np.bool_:
+        return "UInt8", _VTK_TYPES["UInt8"]
+    if dtype.kind == "f":
+        name = "Float32" if dtype.itemsize == 4 else "Float64"
+        return name, _VTK_TYPES[name]
+    if dtype.kind in "iu":
+        name = ("Int" if dtype.kind == "i" else "UInt") + str(8 * dtype.itemsize)
+        if name in _VTK_TYPES:
+            return name, _VTK_TYPES[name]
+    raise TypeError(f"cannot write arrays of dtype {dtype} to VTK "
+                    "(use float, integer or bool arrays)")
+
+
+def _encode(array):
+    """Inline ``binary`` payload: base64(UInt64 byte count + raw bytes)."""
+    raw = np.ascontiguousarray(array).tobytes()
+    header = np.array([len(raw)], dtype=_HEADER_TYPES[_HEADER_TYPE]).tobytes()
+    return base64.b64encode(header + raw).decode("ascii")
+
+
+def _data_array(fh, array, ncomp, name=None, indent="        "):
+    vtk_type, dtype = _vtk_type_of(array.dtype)
+    array = np.asarray(array, dtype=dtype)
+    name_attr = f" Name={quoteattr(name)}" if name is not None else ""
+    fh.write(f'{indent}<DataArray type="{vtk_type}"{name_attr} NumberOfComponents="{ncomp}" '
+             f'format="binary">\n{indent}  {_encode(array)}\n{indent}</DataArray>\n')
+
+
+def _as_points(positions):
+    pos = np.asarray(positions)
+    if pos.ndim == 1 and pos.size == 0:
+        pos = pos.reshape(0, 3)
+    if pos.ndim != 2 or pos.shape[1] not in (2, 3):
+        raise ValueError(f"positions must have shape (N, 2) or (N, 3), got {pos.shape}")
+    if pos.dtype.kind not in "fiu":
+        raise TypeError(f"positions must be numeric, got dtype {pos.dtype}")
+    out = np.zeros((pos.shape[0], 3), dtype="<f8")
+    out[:, :pos.shape[1]] = pos
+    return out
+
+
+def _as_point_array(name, value, n):
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"point data names must be non-empty strings, got {name!r}")
+    arr = np.asarray(value)
+    if arr.ndim == 0 or arr.ndim > 2 or arr.shape[0] != n:
+        raise ValueError(f"point data {name!r} must have shape ({n},) or ({n}, d), "
+                         f"got {arr.shape}")
+    _vtk_type_of(arr.dtype)  # reject unsupported dtypes before writing anything
+    if arr.ndim == 2 and arr.shape[1] == 2:
+        # ParaView treats only 3-component arrays as vectors (glyphs, arrows).
+        arr = np.concatenate([arr, np.zeros((n, 1), dtype=arr.dtype)], axis=1)
+    ncomp = 1 if arr.ndim == 1 else arr.shape[1]
+    if ncomp < 1:
+        raise ValueError(f"point data {name!r} has no components: shape {arr.shape}")
+    return arr, ncomp
+
+
+def write_vtu(path, positions, point_data=None):
+    """Write particles as a VTK XML UnstructuredGrid of vertex cells.
+
+    ``positions`` is (N, 2) or (N, 3) (2D is padded with z = 0). ``point_data``
+    maps names to (N,) scalars or (N, d) vectors (d = 2 is padded to 3).
+    Float32 arrays stay Float32, other floats become Float64, integers keep
+    their width, bool becomes UInt8. Returns the path written.
+    """
+    points = _as_points(positions)
+    n = points.shape[0]
+    arrays = [(name, *_as_point_array(name, value, n))
+              for name, value in (point_data or {}).items()]
+
+    path = os.fspath(path)
+    with _atomic_write(path, "w", encoding="ascii", newline="\n") as fh:
+        fh.write('<?xml version="1.0"?>\n'
+                 '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
+                 f'header_type="{_HEADER_TYPE}">\n'
+                 '  <UnstructuredGrid>\n'
+                 f'    <Piece NumberOfPoints="{n}" NumberOfCells="{n}">\n'
+                 '      <PointData>\n')
+        for name, arr, ncomp in arrays:
+            _data_array(fh, arr, ncomp, name)
+        fh.write('      </PointData>\n'
+                 '      <Points>\n')
+        _data_array(fh, points, 3, "Points")
+        fh.write('      </Points>\n'
+                 '      <Cells>\n')
+        ids = np.arange(n, dtype="<i8")
+        _data_array(fh, ids, 1, "connectivity")
+        _data_array(fh, ids + 1, 1, "offsets")
+        _data_array(fh, np.full(n, _VTK_VERTEX, dtype="<u1"), 1, "types")
+        fh.write('      </Cells>\n'
+                 '    </Piece>\n'
+                 '  </UnstructuredGrid>\n'
+                 '</VTKFile>\n')
+    return path
+
+
+# --------------------------------------------------------------------------
+# .vtu reading
+
+def _decode(text, dtype, header_dtype, where):
+    text = "".join(text.split())
+    hsize = header_dtype.itemsize
+    hchars = 4 * math.ceil(hsize / 3)
+    if len(text) < hchars:
+        raise ValueError(f"{where}: binary data array is truncated")
+    try:
+        if len(text) > hchars and text[hchars - 1] == "=":
+            # Padding inside the text: header and payload were encoded separately.
+            nbytes = int(np.frombuffer(base64.b64decode(text[:hchars]), header_dtype)[0])
+            payload = base64.b64decode(text[hchars:])
+        else:
+            blob = base64.b64decode(text)
+            nbytes = int(np.frombuffer(blob[:hsize], header_dtype)[0])
+            payload = blob[hsize:]
+    except (ValueError, IndexError) as exc:
+        raise ValueError(f"{where}: invalid base64 data ({exc})") from None
+    if len(payload) < nbytes or nbytes % dtype.itemsize:
+        raise ValueError(f"{where}: data array holds {len(payload)} bytes, header says {nbytes}")
+    return np.frombuffer(payload[:nbytes], dtype=dtype).copy()
+
+
+def _read_data_array(elem, header_dtype, where):
+    vtk_type = elem.get("type")
+    if vtk_type not in _VTK_TYPES:
+        raise ValueError(f"{where}: unsupported DataArray type {vtk_type!r}")
+    dtype = _VTK_TYPES[vtk_type]
+    fmt = elem.get("format", "ascii")
+    if fmt == "binary":
+        flat = _decode(elem.text or "", dtype, header_dtype, where)
+    elif fmt == "ascii":
+        flat = np.array((elem.text or "").split(), dtype=dtype)
+    else:
+        raise ValueError(f"{where}: DataArray format {fmt!r} is not supported")
+    ncomp = int(elem.get("NumberOfComponents", "1"))
+    if ncomp < 1 or flat.size % ncomp:
+        raise ValueError(f"{where}: {flat.size} values do not split into {ncomp} components")
+    return flat.astype(dtype.newbyteorder("="), copy=False), ncomp
+
+
+def read_vtu(path):
+    """Read a .vtu written by :func:`write_vtu`.
+
+    Returns ``(positions, point_data)``: positions (N, 3) float64 and a dict
+    name -> (N,) for scalars or (N, ncomp) for vectors (2D vectors come back
+    with the padded zero z column). Bool arrays come back as uint8.
+    """
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"VTU file not found: {path}")
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
+    if root.tag != "VTKFile" or root.get("type") != "UnstructuredGrid":
+        raise ValueError(f"{path} is not a VTK XML UnstructuredGrid file")
+    if root.get("compressor"):
+        raise ValueError(f"{path}: compressed VTU files are not supported")
+    if root.get("byte_order", "LittleEndian") != "LittleEndian":
+        raise ValueError(f"{path}: only LittleEndian VTU files are supported")
+    header_name = root.get("header_type", "UInt32")
+    if header_name not in _HEADER_TYPES:
+        raise ValueError(f"{path}: unsupported header_type {header_name!r}")
+    header_dtype = _HEADER_TYPES[header_name]
+    pieces = root.findall("./UnstructuredGrid/Piece")
+    if len(pieces) != 1:
+        raise ValueError(f"{path}: expected exactly one Piece, found {len(pieces)}")
+    piece = pieces[0]
+    n = int(piece.get("NumberOfPoints", "0"))
+
+    pts_elem = piece.find("./Points/DataArray")
+    if pts_elem is None:
+        raise ValueError(f"{path}: no Points array")
+    flat, ncomp = _read_data_array(pts_elem, header_dtype, f"{path}: Points")
+    if ncomp != 3 or flat.size != 3 * n:
+        raise ValueError(f"{path}: Points array does not hold {n} 3D points")
+    positions = flat.reshape(n, 3).astype(np.float64, copy=False)
+
+    data = {}
+    for elem in piece.findall("./PointData/DataArray"):
+        name = elem.get("Name")
+        flat, ncomp = _read_data_array(elem, header_dtype, f"{path}: point data {name!r}")
+        if flat.size != n * ncomp:
+            raise ValueError(f"{path}: point data {name!r} has {flat.size} values, "
+                             f"expected {n * ncomp}")
+        data[name] = flat if ncomp == 1 else flat.reshape(n, ncomp)
+    return positions, data
+
+
+# --------------------------------------------------------------------------
+# .pvd collections
+
+class PVDSeries:
+    """A time series of .vtu files listed in a ParaView .pvd collection.
+
+    ``write`` creates ``{directory}/{name}_{k:05d}.vtu`` and rewrites
+    ``{directory}/{name}.pvd`` atomically, so the collection is valid after
+    every step, even if the run dies later. With ``resume=True`` an existing
+    collection is read back, entries with time > ``resume_after`` are dropped
+    and numbering continues after the last kept entry (the .vtu files of
+    dropped entries are overwritten as the run catches up). Without
+    ``resume`` any previous collection of that name is replaced by an empty one.
+    """
+
+    def __init__(self, directory, name, *, resume=False, resume_after=None):
+        if not isinstance(name, str) or not name or os.sep in name or "/" in name:
+            raise ValueError(f"series name must be a non-empty file name, got {name!r}")
+        self.directory = os.fspath(directory)
+        self.name = name
+        os.makedirs(self.directory, exist_ok=True)
+        self.pvd_path = os.path.join(self.directory, f"{name}.pvd")
+        self._entries = []
+        self._next_index = 0
+        if resume and os.path.exists(self.pvd_path):
+            entries = self._parse_pvd(self.pvd_path)
+            if resume_after is not None:
+                entries = [(t, f) for t, f in entries if t <= float(resume_after)]
+            self._entries = entries
+            self._next_index = self._index_after(entries)
+        self._write_pvd()
+
+    @property
+    def files(self):
+        """List of (time, filename relative to the .pvd directory)."""
+        return list(self._entries)
+
+    def write(self, time, positions, point_data=None):
+        """Write one snapshot at ``time``; returns the .vtu path."""
+        time = float(time)
+        if not math.isfinite(time):
+            raise ValueError(f"snapshot time must be finite, got {time!r}")
+        filename = f"{self.name}_{self._next_index:05d}.vtu"
+        path = os.path.join(self.directory, filename)
+        write_vtu(path, positions, point_data)
+        self._entries.append((time, filename))
+        self._next_index += 1
+        self._write_pvd()
+        return path
+
+    def _index_after(self, entries):
+        pattern = re.compile(re.escape(self.name) + r"_(\d+)\.vtu$")
+        indices = [int(m.group(1)) for _, f in entries if (m := pattern.match(f))]
+        return max(indices) + 1 if indices else len(entries)
+
+    def _write_pvd(self):
+        lines = ['<?xml version="1.0"?>',
+                 '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+                 '  <Collection>']
+        for t, f in self._entries:
+            # repr() round-trips the float exactly.
+            lines.append(f'    <DataSet timestep="{t!r}" group="" part="0" file={quoteattr(f)}/>')
+        lines += ['  </Collection>', '</VTKFile>', '']
+        with _atomic_write(self.pvd_path, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write("\n".join(lines))
+
+    @staticmethod
+    def _parse_pvd(path):
+        try:
+            root = ET.parse(path).getroot()
+        except ET.ParseError as exc:
+            raise ValueError(f"{path} is not a valid .pvd file: {exc}") from None
+        if root.tag != "VTKFile" or root.get("type") != "Collection":
+            raise ValueError(f"{path} is not a VTK Collection (.pvd) file")
+        entries = []
+        for ds in root.iter("DataSet"):
+            try:
+                entries.append((float(ds.get("timestep", "0")), ds.get("file")))
+            except ValueError:
+                raise ValueError(f"{path}: bad timestep {ds.get('timestep')!r}") from None
+            if entries[-1][1] is None:
+                raise ValueError(f"{path}: DataSet without a file attribute")
+        return entries

@@ -1,0 +1,66 @@
+"""Structure-of-arrays particle storage. No physics here.
+
+Every per-particle quantity is a contiguous numpy array whose first axis is
+the particle. Reordering (for memory locality) and removal (particles that
+left the domain) act on all arrays at once, so they never get out of step.
+"""
+
+import numpy as np
+
+
+class ParticleArrays:
+    """Named per-particle arrays of equal length.
+
+    >>> pa = ParticleArrays(2)
+    >>> pa.add("x", np.zeros((3, 2)))
+    >>> pa.n
+    3
+    """
+
+    def __init__(self, dim):
+        self.dim = int(dim)
+        self._arrays = {}
+
+    @property
+    def n(self):
+        for a in self._arrays.values():
+            return a.shape[0]
+        return 0
+
+    def add(self, name, array):
+        array = np.ascontiguousarray(array)
+        if self._arrays and array.shape[0] != self.n:
+            raise ValueError(f"array {name!r} has {array.shape[0]} rows, expected {self.n}")
+        self._arrays[name] = array
+        return array
+
+    def __getitem__(self, name):
+        return self._arrays[name]
+
+    def __setitem__(self, name, array):
+        self.add(name, array)
+
+    def __contains__(self, name):
+        return name in self._arrays
+
+    def names(self):
+        return list(self._arrays)
+
+    def items(self):
+        return self._arrays.items()
+
+    def permute(self, order):
+        """Reorder every array by the index array ``order`` (new[i] = old[order[i]])."""
+        for name, a in self._arrays.items():
+            self._arrays[name] = np.ascontiguousarray(a[order])
+
+    def keep(self, mask):
+        """Keep only the particles where ``mask`` is true; return how many were removed."""
+        removed = int(mask.size - np.count_nonzero(mask))
+        if removed:
+            for name, a in self._arrays.items():
+                self._arrays[name] = np.ascontiguousarray(a[mask])
+        return removed
+
+    def as_dict(self):
+        return dict(self._arrays)

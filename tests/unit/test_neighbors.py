@@ -1,0 +1,94 @@
+"""Neighbour search against brute force: random sets, cell borders, periodic wrap."""
+
+import numpy as np
+import pytest
+
+from seawall.errors import ParameterError
+from seawall.neighbors import CellGrid, neighbour_pairs
+
+
+def brute(xa, xb, radius, period=None, same=False):
+    d = xa[:, None, :] - xb[None, :, :]
+    if period is not None:
+        for k, L in enumerate(period):
+            if L > 0:
+                d[..., k] -= L * np.rint(d[..., k] / L)
+    r2 = np.sum(d * d, axis=-1)
+    mask = r2 < radius * radius
+    if same:
+        np.fill_diagonal(mask, False)
+    i, j = np.nonzero(mask)
+    return set(zip(i.tolist(), j.tolist()))
+
+
+def found(grid, xa, xb=None, radius=None):
+    i, j = neighbour_pairs(grid, xa, xb, radius)
+    return set(zip(i.tolist(), j.tolist()))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_random_sets_match_brute_force(dim):
+    rng = np.random.default_rng(dim)
+    radius = 0.13
+    xa = rng.uniform(0, 1, size=(600, dim))
+    xb = rng.uniform(0, 1, size=(500, dim))
+    grid = CellGrid(np.zeros(dim), np.ones(dim), radius)
+    assert found(grid, xa) == brute(xa, xa, radius, same=True)
+    assert found(grid, xa, xb) == brute(xa, xb, radius)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_particles_on_cell_borders(dim):
+    radius = 0.1
+    grid = CellGrid(np.zeros(dim), np.ones(dim), radius)
+    # lattice with spacing equal to the cell width (radius/2): every particle sits on a border
+    ticks = np.arange(0, 1.0 + 1e-12, grid.cell_size[0])
+    ticks = ticks[ticks < 1.0]
+    x = np.stack(np.meshgrid(*([ticks] * dim), indexing="ij"), axis=-1).reshape(-1, dim)
+    # and pairs exactly at the radius must be excluded, just below it included
+    assert found(grid, x) == brute(x, x, radius, same=True)
+    # binary-exact coordinates: the first point is at exactly the radius 0.125
+    grid = CellGrid(np.zeros(dim), np.ones(dim), 0.125)
+    probe = np.array([[0.5] * dim])
+    other = np.array([[0.625] + [0.5] * (dim - 1), [0.625 - 2 ** -40] + [0.5] * (dim - 1)])
+    assert found(grid, probe, other) == {(0, 1)}
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_periodic_wrap(dim):
+    rng = np.random.default_rng(10 + dim)
+    radius = 0.15
+    lo = np.zeros(dim)
+    hi = np.full(dim, 0.8)
+    periodic = [True] + [False] * (dim - 1)
+    grid = CellGrid(lo, hi, radius, periodic=periodic)
+    x = rng.uniform(0, 0.8, size=(400, dim))
+    x[:20, 0] = rng.uniform(0, 0.02, 20)       # crowd both ends of the periodic axis
+    x[20:40, 0] = rng.uniform(0.78, 0.8 - 1e-9, 20)
+    period = [0.8] + [0.0] * (dim - 1)
+    assert found(grid, x) == brute(x, x, radius, period=period, same=True)
+    # pairs across the periodic boundary exist
+    assert any(abs(x[i, 0] - x[j, 0]) > 0.5 for i, j in found(grid, x))
+
+
+def test_fully_periodic_small_box():
+    radius = 0.1
+    grid = CellGrid([0, 0], [0.25, 0.3], radius, periodic=[True, True])
+    rng = np.random.default_rng(3)
+    x = rng.uniform(0, 1, size=(200, 2)) * [0.25, 0.3]
+    assert found(grid, x) == brute(x, x, radius, period=[0.25, 0.3], same=True)
+
+
+def test_periodic_axis_too_short():
+    with pytest.raises(ParameterError, match="periodic axis 0"):
+        CellGrid([0, 0], [0.2, 1], 0.1, periodic=[True, False])
+
+
+def test_memory_is_linear_not_all_pairs():
+    # 40k particles: an all-pairs array would need 12.8 GB; the search finds pairs only
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0, 1, size=(40_000, 2))
+    grid = CellGrid([0, 0], [1, 1], 0.01)
+    i, j = neighbour_pairs(grid, x)
+    expected = 40_000 * 40_000 * np.pi * 0.01 ** 2  # ~ N^2 pi r^2 / area
+    assert 0.8 * expected < i.size < 1.2 * expected
