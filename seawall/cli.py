@@ -59,10 +59,17 @@ def _positive_int(name):
     return parse
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """Bad arguments give one line naming the problem (``--help`` still shows usage)."""
+
+    def error(self, message):
+        self.exit(EXIT_BAD_INPUT, f"seawall: error: {message}\n")
+
+
 def build_parser():
-    parser = argparse.ArgumentParser(
+    parser = _OneLineParser(
         prog="seawall", description="SPH with swappable, validated solid walls.")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_OneLineParser)
     sub.required = True
 
     sub.add_parser("cases", help="list the named cases")

@@ -1,0 +1,86 @@
+"""The command line: contract files, JSON line, one-line errors without traceback."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from seawall.cli import main
+from seawall.io import read_probes_csv
+
+
+def run_cli(args, capsys):
+    code = main(args)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_cases_lists_every_case(capsys):
+    code, out, _ = run_cli(["cases"], capsys)
+    assert code == 0
+    names = [line.split()[0] for line in out.strip().splitlines()]
+    assert {"hydrostatic", "dam-break", "collapse", "dam-break-3d"} <= set(names)
+
+
+def test_run_writes_contract_files(tmp_path, capsys):
+    out_dir = tmp_path / "run"
+    code, out, _ = run_cli(["run", "hydrostatic", "--dx", "0.05", "--t-end", "0.02", "--out", str(out_dir),
+                            "--no-progress", "--set", "length=0.5", "--set", "depth=0.2",
+                            "--set", "height=0.3"], capsys)
+    assert code == 0
+    summary = json.loads((out_dir / "summary.json").read_text())
+    for key in ("case", "boundary", "dimension", "n_fluid", "n_wall", "steps", "t_end", "wall_time_s",
+                "particle_steps_per_s", "escaped_particles", "mass_drift"):
+        assert key in summary, key
+    assert summary["case"] == "hydrostatic" and summary["boundary"] == "adami"
+    assert summary["t_end"] == pytest.approx(0.02)
+    t, cols = read_probes_csv(str(out_dir / "probes.csv"))
+    header = (out_dir / "probes.csv").read_text().splitlines()[0].split(",")
+    assert header[0] == "t" and {"P0", "P1"} <= set(header)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(0.02)
+    assert np.all(np.isfinite(cols["P0"]))
+    assert (out_dir / "fluid.pvd").exists() and (out_dir / "wall_tank.pvd").exists()
+    assert "M particle-steps/s" in out
+
+
+def test_bench_prints_one_json_line(capsys):
+    code, out, _ = run_cli(["bench", "hydrostatic", "--dx", "0.05", "--steps", "5"], capsys)
+    assert code == 0
+    lines = out.strip().splitlines()
+    assert len(lines) == 1
+    rec = json.loads(lines[0])
+    for key in ("n_particles", "steps", "seconds", "particle_steps_per_s", "compile_seconds"):
+        assert key in rec
+    assert rec["steps"] == 5 and rec["particle_steps_per_s"] > 0
+
+
+@pytest.mark.parametrize("args,word", [
+    (["run", "hydrostatic", "--dx", "0"], "--dx"),
+    (["run", "hydrostatic", "--dx", "-0.1"], "--dx"),
+    (["run", "hydrostatic", "--t-end", "0"], "--t-end"),
+    (["run", "hydrostatic", "--set", "h_factor=0"], "h must be"),
+    (["run", "hydrostatic", "--set", "c0=-3"], "c0"),
+    (["run", "hydrostatic", "--set", "depth=0.5"], "depth"),
+    (["run", "no-such-case"], "unknown case"),
+    (["run", "hydrostatic", "--boundary", "teflon"], "unknown boundary"),
+    (["run", "hydrostatic", "--set", "colour=red"], "no parameter 'colour'"),
+])
+def test_bad_input_gives_one_line_without_traceback(args, word, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "seawall", *args, "--out", str(tmp_path / "x")]
+                          if args[0] == "run" else [sys.executable, "-m", "seawall", *args],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    err = proc.stderr.strip().splitlines()
+    assert len(err) == 1, proc.stderr
+    assert word in err[0]
+    assert "Traceback" not in proc.stderr
+
+
+def test_rho0_zero_in_api_is_named():
+    import seawall as sw
+    from seawall.errors import ParameterError
+    with pytest.raises(ParameterError, match="rho0"):
+        sw.FluidSystem(sw.shapes.rectangle((0, 0), (0.1, 0.1), 0.01), rho0=0, eos=sw.Tait(c0=1.0))
