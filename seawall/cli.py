@@ -1,4 +1,4 @@
-"""Command line: ``seawall cases | boundaries | run | bench``.
+"""Command line: ``seawall cases | boundaries | run | plot | bench``.
 
 The output files of ``run`` (probes.csv, summary.json, the VTU/PVD series)
 and the JSON line of ``bench`` are a contract other tools rely on: columns
@@ -90,6 +90,13 @@ def build_parser():
     run.add_argument("--restart", metavar="CHECKPOINT", help="continue from a checkpoint of the same case")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
+    plot.add_argument("run_dir")
+    plot.add_argument("--time", type=float, help="snapshot time [s] (default: the last one)")
+    plot.add_argument("--field", default="pressure", help="point field to colour by (default pressure)")
+    plot.add_argument("--out", help="PNG path (default RUN_DIR/snapshot.png)")
+    plot.add_argument("--probes", action="store_true", help="also draw RUN_DIR/probes.png")
 
     bench = sub.add_parser("bench", help="time a fixed number of steps; print one JSON line")
     bench.add_argument("case")
@@ -221,6 +228,21 @@ def _print_summary(s):
         print(f"  probe {name:<14} final {p['final']:12.5g}   min {p['min']:12.5g}   max {p['max']:12.5g}")
 
 
+def cmd_plot(args):
+    from . import plots
+    from .errors import ParameterError
+
+    out = args.out or os.path.join(args.run_dir, "snapshot.png")
+    try:
+        plots.snapshot(args.run_dir, out, time=args.time, field=args.field)
+        print(out)
+        if args.probes:
+            print(plots.probe_histories(args.run_dir, os.path.join(args.run_dir, "probes.png")))
+    except (FileNotFoundError, ValueError) as exc:
+        raise ParameterError(str(exc)) from None
+    return 0
+
+
 def cmd_bench(args):
     from .simulation import Simulation  # noqa: F401  (import cost outside the timing)
 
@@ -249,7 +271,8 @@ def main(argv=None):
 
     parser = build_parser()
     args = parser.parse_args(argv)
-    handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench}
+    handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
+                "plot": cmd_plot}
     try:
         return handlers[args.command](args)
     except ParameterError as exc:

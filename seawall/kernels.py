@@ -114,6 +114,41 @@ def kernel_shape_dq(kind, q):
     return 0.0
 
 
+@njit(cache=True, inline="always")
+def kernel_gradient_factor(kind, q):
+    """(df/dq) / q, so that grad W = sigma / h^2 * factor * (r_a - r_b).
+
+    Written out per kernel so that most branches need no division (the pair
+    loops are bound by divisions); finite at q = 0 and checked against
+    kernel_shape_dq(q) / q in tests/unit/test_kernels.py.
+    """
+    if kind == CUBIC_SPLINE:
+        if q < 1.0:
+            return -3.0 + 2.25 * q
+        if q < 2.0:
+            t = 2.0 - q
+            return -0.75 * t * t / q
+        return 0.0
+    if kind == WENDLAND_C2:
+        if q < 2.0:
+            t = 1.0 - 0.5 * q
+            return -5.0 * t * t * t
+        return 0.0
+    if kind == WENDLAND_C4:
+        if q < 2.0:
+            # t^5 (t P' - 3 P) = -(7/3) q (2 + 5 q) t^5
+            t = 1.0 - 0.5 * q
+            return -7.0 / 3.0 * (2.0 + 5.0 * q) * t * t * t * t * t
+        return 0.0
+    if kind == QUINTIC_SPLINE:
+        if q <= 0.0:
+            return 20.0 * 27.0 - 120.0 * 8.0 + 300.0  # limit q -> 0: f"(0) = -120
+        return kernel_shape_dq(kind, q) / q
+    if q < 3.0:
+        return -2.0 * math.exp(-q * q)
+    return 0.0
+
+
 def kernel_sigma(kind, h, dim):
     """Normalisation sigma_d(h) such that the integral of W over space is one."""
     if dim not in (2, 3):

@@ -27,7 +27,7 @@ def interpolate_pressure(layout, points, accel, xf, pf, rhof, start, order, lo, 
                          hydrostatic, out, weight):
     """Kernel-weighted fluid pressure at points; with ``hydrostatic`` the Adami extrapolation.
 
-    ``out[k]`` is NaN where no fluid particle lies within the support;
+    ``out[k]`` is 0 (gauge) where no fluid particle lies within the support;
     ``weight[k]`` receives the Shepard sum sum_f V_f W (1 inside full fluid).
     """
     dim = tag_dim(layout)
@@ -64,7 +64,8 @@ def interpolate_pressure(layout, points, accel, xf, pf, rhof, start, order, lo, 
                         val += rhof[f] * (g0 * d0 + g1 * d1 + g2 * d2)
                     sp += val * w
                     sv += prm.sigma * w
-        out[k] = sp / sw if sw > 0.0 else np.nan
+        # a dry sensor (no fluid within the support) reads zero gauge pressure, as a real one does
+        out[k] = sp / sw if sw > 0.0 else 0.0
         weight[k] = sv
 
 

@@ -138,8 +138,8 @@ class Simulation:
         n = fp.n
         for name, shape in (("dv", (n, self.dim)), ("xsph", (n, self.dim))):
             fp[name] = np.zeros(shape)
-        fp["drho"] = np.zeros(n)
-        fp["mu_max"] = np.zeros(n)
+        for name in ("drho", "mu_max", "p_over_rho2", "volume"):
+            fp[name] = np.zeros(n)
         if self.physics.diffusion == DIFFUSION_RENORMALISED:
             fp["grad_rho"] = np.zeros((n, self.dim))
         self._empty_grad = np.zeros((0, self.dim))
@@ -257,17 +257,18 @@ class Simulation:
                     summation_density(g.layout, fp["x"], fp["m"], wall.x, wall.particles["m"], wall.cells.start,
                                       wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                                       False, rho)
-        equation_of_state(fp["rho"], prm, fp["p"], fp["c"])
+        equation_of_state(fp["rho"], fp["m"], prm, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
         ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing)
         for wall in self.walls:
             wall.model.update(wall, self.fluid, ctx)
         if prm.diffusion == DIFFUSION_RENORMALISED:
             grad = fp["grad_rho"]
-            renormalised_density_gradient(g.layout, fp["x"], fp["rho"], fp["m"], cells.start, cells.order, g.lo,
+            renormalised_density_gradient(g.layout, fp["x"], fp["rho"], fp["volume"], cells.start, cells.order, g.lo,
                                           g.inv_cell, g.ncell, g.period, prm, grad)
         else:
             grad = self._empty_grad
-        fluid_rates(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], fp["m"], grad, cells.start,
+        fluid_rates(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], fp["m"], fp["p_over_rho2"],
+                    fp["volume"], grad, cells.start,
                     cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                     fp["dv"], fp["drho"], fp["xsph"], fp["mu_max"])
         for wall in self.walls:
@@ -332,7 +333,7 @@ class Simulation:
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])
         # the equation of state is cheap; it keeps probe pressures consistent with rho
         fp = self.fluid.particles
-        equation_of_state(fp["rho"], self.physics, fp["p"], fp["c"])
+        equation_of_state(fp["rho"], fp["m"], self.physics, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
         row = [p.sample(self) for p in self.probes]
         self.probe_times.append(self.time)
         self.probe_values.append(row)

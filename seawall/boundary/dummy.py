@@ -31,7 +31,7 @@ from numba import njit, prange
 
 from ..eos import eos_density
 from ..errors import ParameterError, require_nonnegative
-from ..kernels import kernel_shape, kernel_shape_dq
+from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
 from .base import WallModel
 
@@ -113,7 +113,7 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
     nf = xf.shape[0]
     inv_h = 1.0 / prm.h
     nrows = 25 if dim == 3 else 5
-    dwq = prm.sigma * inv_h
+    gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     for i in prange(nf):
         p0, p1, p2 = point_of(xf, i, dim)
@@ -136,7 +136,7 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)
-                    f = dwq * kernel_shape_dq(prm.kernel, r * inv_h) / r
+                    f = gradient_scale * kernel_gradient_factor(prm.kernel, r * inv_h)
                     mb = mw[b]
                     vb0, vb1, vb2 = point_of(vw, b, dim)
                     dr += mb * ((vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2) * f

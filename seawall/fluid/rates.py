@@ -29,17 +29,25 @@ import numpy as np
 from numba import njit, prange
 
 from ..eos import eos_pressure, eos_sound_speed
-from ..kernels import kernel_shape, kernel_shape_dq
+from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
 
 @njit(cache=True, parallel=True, fastmath=True)
-def equation_of_state(rho, prm, p, c):
-    """Pressure and sound speed of every particle from its density."""
+def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
+    """Pressure and sound speed of every particle from its density.
+
+    Also stores p / rho^2 and the volume m / rho, which the pair loops would
+    otherwise divide out once per pair (two divisions per pair saved).
+    """
     for i in prange(rho.shape[0]):
-        p[i] = eos_pressure(prm.eos, rho[i], prm.rho0, prm.c0, prm.gamma, prm.p_background)
-        c[i] = eos_sound_speed(prm.eos, rho[i], prm.rho0, prm.c0, prm.gamma)
+        r = rho[i]
+        pi = eos_pressure(prm.eos, r, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        p[i] = pi
+        c[i] = eos_sound_speed(prm.eos, r, prm.rho0, prm.c0, prm.gamma)
+        p_over_rho2[i] = pi / (r * r)
+        volume[i] = m[i] / r
 
 
 @njit(cache=True, parallel=True, fastmath=True)
@@ -78,7 +86,7 @@ def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncel
 
 
 @njit(cache=True, parallel=True, fastmath=True)
-def renormalised_density_gradient(layout, x, rho, m, start, order, lo, inv_cell, ncell, period, prm, grad):
+def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_cell, ncell, period, prm, grad):
     """<grad rho>_i^L of seed 003 eq. 14-15 (Randles & Libersky renormalisation).
 
     Where the renormalisation matrix is nearly singular (a particle with few
@@ -90,7 +98,7 @@ def renormalised_density_gradient(layout, x, rho, m, start, order, lo, inv_cell,
     n = x.shape[0]
     inv_h = 1.0 / prm.h
     nrows = 25 if dim == 3 else 5
-    dwq = prm.sigma * inv_h
+    gradient_scale = prm.sigma * inv_h * inv_h
     for i in prange(n):
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -113,8 +121,8 @@ def renormalised_density_gradient(layout, x, rho, m, start, order, lo, inv_cell,
                         continue
                     r = np.sqrt(r2)
                     # grad_i W = F r_ij, and x_j - x_i = -r_ij
-                    f = dwq * kernel_shape_dq(prm.kernel, r * inv_h) / r
-                    vol = m[j] / rho[j]
+                    f = gradient_scale * kernel_gradient_factor(prm.kernel, r * inv_h)
+                    vol = volume[j]
                     s = -f * vol
                     a00 += s * d0 * d0
                     a01 += s * d0 * d1
@@ -153,7 +161,7 @@ def renormalised_density_gradient(layout, x, rho, m, start, order, lo, inv_cell,
 
 
 @njit(cache=True, parallel=True, fastmath=True)
-def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell, ncell, period, prm,
+def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start, order, lo, inv_cell, ncell, period, prm,
                 dv, drho, xsph, mu_max):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
 
@@ -167,7 +175,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell
     h = prm.h
     inv_h = 1.0 / h
     nrows = 25 if dim == 3 else 5
-    dwq = prm.sigma * inv_h
+    gradient_scale = prm.sigma * inv_h * inv_h
     alpha = prm.alpha
     beta = prm.beta
     nu = prm.nu
@@ -184,7 +192,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell
         rhoi = rho[i]
         pi = p[i]
         ci = c[i]
-        pr_i = pi / (rhoi * rhoi)
+        pr_i = p_over_rho2[i]
         if tensile:
             ri = (0.01 if pi > 0.0 else -0.2) * pi / (rhoi * rhoi)
         else:
@@ -213,7 +221,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell
                         continue
                     r = np.sqrt(r2)
                     qq = r * inv_h
-                    f = dwq * kernel_shape_dq(prm.kernel, qq) / r  # grad_i W = f r_ij
+                    f = gradient_scale * kernel_gradient_factor(prm.kernel, qq)  # grad_i W = f r_ij
                     mj = m[j]
                     rhoj = rho[j]
                     vj0, vj1, vj2 = point_of(v, j, dim)
@@ -224,7 +232,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell
                     # continuity (eq. 8): m_j v_ij . grad W
                     dr += mj * vr * f
                     # pressure (eq. 5)
-                    coef = pr_i + p[j] / (rhoj * rhoj)
+                    coef = pr_i + p_over_rho2[j]
                     if tensile:
                         pj = p[j]
                         rj = (0.01 if pj > 0.0 else -0.2) * pj / (rhoj * rhoj)
@@ -254,7 +262,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, grad_rho, start, order, lo, inv_cell
                         if renorm:
                             gj0, gj1, gj2 = point_of(grad_rho, j, dim)
                             psi_dot -= ((gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2) * f
-                        dr += diff_coef * mj / rhoj * psi_dot
+                        dr += diff_coef * volume[j] * psi_dot
                     if use_xsph:
                         wx = prm.sigma * kernel_shape(prm.kernel, qq) * mj / (0.5 * (rhoi + rhoj))
                         x0 -= wx * u0

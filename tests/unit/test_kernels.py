@@ -112,3 +112,15 @@ def test_cubic_spline_values_from_seed_000_eq3():
 def test_unknown_kernel_name():
     with pytest.raises(ParameterError, match="kernel must be one of"):
         kernel_by_name("spiky")
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_gradient_factor_is_derivative_over_q(name):
+    from seawall.kernels import kernel_gradient_factor
+    k = kernel_by_name(name)
+    q = np.linspace(1e-3, k.support_radius + 0.2, 777)
+    expected = np.array([kernel_shape_dq(k.kind, x) / x for x in q])
+    got = np.array([kernel_gradient_factor(k.kind, x) for x in q])
+    assert np.allclose(got, expected, rtol=1e-10, atol=1e-12)
+    # finite limit at q = 0 consistent with small q
+    assert kernel_gradient_factor(k.kind, 0.0) == pytest.approx(kernel_shape_dq(k.kind, 1e-7) / 1e-7, rel=1e-5)
