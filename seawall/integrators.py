@@ -20,8 +20,68 @@ Time-step rules (adaptive unless ``dt`` is given):
 import math
 
 import numpy as np
+from numba import njit, prange
 
 from .errors import ParameterError, require_positive
+
+
+@njit(cache=True)
+def step_limits(dv, c, mu_max, h):
+    """max_a |a_a| and min_a h / (c_a + max_b |mu_ab|) in one pass."""
+    amax2 = 0.0
+    cv = np.inf
+    for i in range(dv.shape[0]):
+        a2 = 0.0
+        for k in range(dv.shape[1]):
+            a2 += dv[i, k] * dv[i, k]
+        if a2 > amax2:
+            amax2 = a2
+        t = h / (c[i] + mu_max[i])
+        if t < cv:
+            cv = t
+    return math.sqrt(amax2), cv
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def symplectic_predict(x, v, rho, dv, drho, xsph, dt, v_old, rho_old):
+    """Predictor half step of :class:`Symplectic` (keeps v_n, rho_n for the corrector)."""
+    half = 0.5 * dt
+    for i in prange(x.shape[0]):
+        rho_old[i] = rho[i]
+        rho[i] += half * drho[i]
+        for k in range(x.shape[1]):
+            v_old[i, k] = v[i, k]
+            x[i, k] += half * (v[i, k] + xsph[i, k])
+            v[i, k] += half * dv[i, k]
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def symplectic_correct(x, v, rho, dv, drho, xsph, dt, v_old, rho_old):
+    """Corrector of :class:`Symplectic` with the rates at the half step."""
+    half = 0.5 * dt
+    for i in prange(x.shape[0]):
+        eps = -(drho[i] / rho[i]) * dt
+        rho[i] = rho_old[i] * (2.0 - eps) / (2.0 + eps)
+        for k in range(x.shape[1]):
+            v[i, k] = v_old[i, k] + dt * dv[i, k]
+            x[i, k] += half * (v[i, k] + xsph[i, k])
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def kick(v, rho, dv, drho, dt_half):
+    """Half kick of velocity and density (:class:`LeapFrog`)."""
+    for i in prange(v.shape[0]):
+        rho[i] += dt_half * drho[i]
+        for k in range(v.shape[1]):
+            v[i, k] += dt_half * dv[i, k]
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def drift(x, v, xsph, dt):
+    """Full drift of the positions with the XSPH-corrected velocity (:class:`LeapFrog`)."""
+    for i in prange(x.shape[0]):
+        for k in range(x.shape[1]):
+            x[i, k] += dt * (v[i, k] + xsph[i, k])
 
 DT_RULES = ("monaghan-kos", "liu2015")
 
@@ -61,10 +121,9 @@ class Integrator:
         h = physics.h
         if pa.n == 0:
             return self.dt_max or 1e-4
-        amax = float(np.sqrt(np.max(np.sum(pa["dv"] ** 2, axis=1))))
+        amax, dt_cv = step_limits(pa["dv"], pa["c"], pa["mu_max"], h)
         dt_f = math.sqrt(h / amax) if amax > 0 else math.inf
         if self.rule == "monaghan-kos":
-            dt_cv = float(np.min(h / (pa["c"] + pa["mu_max"])))
             dt = self.cfl * min(dt_f, dt_cv)
         else:
             c = physics.c0
@@ -92,18 +151,12 @@ class Symplectic(Integrator):
 
     def step(self, sim, dt):
         pa = sim.fluid.particles
-        x, v, rho = pa["x"], pa["v"], pa["rho"]
-        v_old = v.copy()
-        rho_old = rho.copy()
-        x += 0.5 * dt * (v + pa["xsph"])
-        v += 0.5 * dt * pa["dv"]
-        rho += 0.5 * dt * pa["drho"]
+        v_old = np.empty_like(pa["v"])
+        rho_old = np.empty_like(pa["rho"])
+        symplectic_predict(pa["x"], pa["v"], pa["rho"], pa["dv"], pa["drho"], pa["xsph"], dt, v_old, rho_old)
         sim.evaluate(sim.time + 0.5 * dt)
         # the arrays are the same objects: evaluate never reallocates inside a step
-        eps = -(pa["drho"] / rho) * dt
-        v[:] = v_old + dt * pa["dv"]
-        x += 0.5 * dt * (v + pa["xsph"])
-        rho[:] = rho_old * (2.0 - eps) / (2.0 + eps)
+        symplectic_correct(pa["x"], pa["v"], pa["rho"], pa["dv"], pa["drho"], pa["xsph"], dt, v_old, rho_old)
 
 
 class LeapFrog(Integrator):
@@ -119,13 +172,10 @@ class LeapFrog(Integrator):
 
     def step(self, sim, dt):
         pa = sim.fluid.particles
-        x, v, rho = pa["x"], pa["v"], pa["rho"]
-        v += 0.5 * dt * pa["dv"]
-        rho += 0.5 * dt * pa["drho"]
-        x += dt * (v + pa["xsph"])
+        kick(pa["v"], pa["rho"], pa["dv"], pa["drho"], 0.5 * dt)
+        drift(pa["x"], pa["v"], pa["xsph"], dt)
         sim.evaluate(sim.time + dt)
-        v += 0.5 * dt * pa["dv"]
-        rho += 0.5 * dt * pa["drho"]
+        kick(pa["v"], pa["rho"], pa["dv"], pa["drho"], 0.5 * dt)
 
 
 INTEGRATORS = {"symplectic": Symplectic, "leapfrog": LeapFrog}

@@ -235,14 +235,14 @@ def point_of(x, i, dim):
     return x[i, 0], x[i, 1], 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def build_cell_list(x, lo, inv_cell, ncell):
     """Counting sort of particles by cell: O(N) time, O(N + cells) memory."""
     n = x.shape[0]
     dim = x.shape[1]
     n_cells = ncell[0] * ncell[1] * ncell[2]
     cell = np.empty(n, dtype=np.int64)
-    for i in range(n):
+    for i in prange(n):
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         cell[i] = cx + ncell[0] * (cy + ncell[1] * cz)

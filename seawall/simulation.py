@@ -142,6 +142,8 @@ class Simulation:
             fp[name] = np.zeros(n)
         if self.physics.diffusion == DIFFUSION_RENORMALISED:
             fp["grad_rho"] = np.zeros((n, self.dim))
+            if self.physics.lagged_gradient:
+                fp["grad_rho_next"] = np.zeros((n, self.dim))
         self._empty_grad = np.zeros((0, self.dim))
         for wall in self.walls:
             cells = self.grid.build(wall.x)
@@ -185,6 +187,7 @@ class Simulation:
             alpha=av.alpha if av else 0.0, beta=av.beta if av else 0.0,
             nu=lam.nu if lam else 0.0,
             diffusion=diff.kind if diff else DIFFUSION_NONE, delta=diff.delta if diff else 0.0,
+            lagged_gradient=1 if getattr(diff, "lagged_gradient", False) else 0,
             tensile=1 if fluid.tensile_correction else 0,
             inv_w_dx=1.0 / w_dx if w_dx > 0 else 0.0, xsph=fluid.xsph,
             gx=float(g[0]), gy=float(g[1]), gz=float(g[2]))
@@ -261,16 +264,23 @@ class Simulation:
         ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing)
         for wall in self.walls:
             wall.model.update(wall, self.fluid, ctx)
-        if prm.diffusion == DIFFUSION_RENORMALISED:
+        lagged = prm.diffusion == DIFFUSION_RENORMALISED and prm.lagged_gradient
+        if prm.diffusion == DIFFUSION_RENORMALISED and (not lagged or not self._rates_ready):
+            # exact: this state's gradient (also the first evaluation of a lagged run)
             grad = fp["grad_rho"]
             renormalised_density_gradient(g.layout, fp["x"], fp["rho"], fp["volume"], cells.start, cells.order, g.lo,
                                           g.inv_cell, g.ncell, g.period, prm, grad)
+        elif lagged:
+            grad = fp["grad_rho"]
         else:
             grad = self._empty_grad
         fluid_rates(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], fp["m"], fp["p_over_rho2"],
                     fp["volume"], grad, cells.start,
                     cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
-                    fp["dv"], fp["drho"], fp["xsph"], fp["mu_max"])
+                    fp["dv"], fp["drho"], fp["xsph"], fp["mu_max"],
+                    fp["grad_rho_next"] if lagged else self._empty_grad)
+        if lagged:
+            fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
         for wall in self.walls:
             wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
         if self.fluid.density_mode == "summation":

@@ -25,10 +25,12 @@ from .base import GRAVITY, Case, Parameter, wall_layers
 RHO0 = 1000.0
 
 
-def _fluid(block, *, c0, alpha, delta, pressure=None):
+def _fluid(block, params, *, c0, pressure=None):
+    delta = params["delta"]
     return FluidSystem(block, rho0=RHO0, eos=Tait(c0=c0, gamma=7.0),
-                       viscosity=ArtificialViscosity(alpha=alpha) if alpha > 0 else None,
-                       density_diffusion=DeltaSPH(delta=delta) if delta > 0 else None,
+                       viscosity=ArtificialViscosity(alpha=params["alpha"]) if params["alpha"] > 0 else None,
+                       density_diffusion=DeltaSPH(delta=delta, lagged_gradient=params["lagged_gradient"])
+                       if delta > 0 else None,
                        pressure=pressure)
 
 
@@ -63,6 +65,7 @@ COMMON = {
     "alpha": Parameter(0.02, "artificial viscosity alpha"),
     "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
     "cfl": Parameter(0.2, "CFL number"),
+    "lagged_gradient": Parameter(True, "delta-SPH gradient from the previous evaluation (one pass); false = two passes", bool),
 }
 
 
@@ -79,8 +82,7 @@ def build_hydrostatic(params, wall_model, threads):
     c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * depth)
     params["c0"] = c0
     kernel = CubicSpline()
-    fluid = _fluid(shapes.rectangle((0.0, 0.0), (length, depth), dx), c0=c0, alpha=params["alpha"],
-                   delta=params["delta"],
+    fluid = _fluid(shapes.rectangle((0.0, 0.0), (length, depth), dx), params, c0=c0,
                    pressure=_hydrostatic(depth, c0, 2) if params["initial"] == "hydrostatic" else None)
     if params["initial"] not in ("hydrostatic", "rest"):
         raise ParameterError(f"initial must be 'hydrostatic' or 'rest', got {params['initial']!r}")
@@ -125,8 +127,7 @@ def build_dam_break(params, wall_model, threads):
     params["c0"] = c0
     length = snap(5.366 * H, dx)
     kernel = CubicSpline()
-    fluid = _fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), c0=c0, alpha=params["alpha"],
-                   delta=params["delta"])
+    fluid = _fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), params, c0=c0)
     tank = shapes.tank((0.0, 0.0), (length, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
     walls = WallSystem(tank, model=wall_model(), name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
@@ -160,8 +161,7 @@ def build_collapse(params, wall_model, threads):
     c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * height)
     params["c0"] = c0
     kernel = CubicSpline()
-    fluid = _fluid(shapes.rectangle((0.0, 0.0), (a, height), dx), c0=c0, alpha=params["alpha"],
-                   delta=params["delta"])
+    fluid = _fluid(shapes.rectangle((0.0, 0.0), (a, height), dx), params, c0=c0)
     tank = shapes.tank((0.0, 0.0), (snap(4.0 * a, dx), snap(2.4 * a, dx)), dx, layers=wall_layers(kernel, h, dx))
     walls = WallSystem(tank, model=wall_model(), name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
@@ -192,8 +192,7 @@ def build_dam_break_3d(params, wall_model, threads):
     length = snap(5.366 * H, dx)
     W = snap(W, dx)
     kernel = CubicSpline()
-    fluid = _fluid(shapes.box((0.0, 0.0, 0.0), (2.0 * H, W, H), dx), c0=c0, alpha=params["alpha"],
-                   delta=params["delta"])
+    fluid = _fluid(shapes.box((0.0, 0.0, 0.0), (2.0 * H, W, H), dx), params, c0=c0)
     tank = shapes.tank((0.0, 0.0, 0.0), (length, W, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
     walls = WallSystem(tank, model=wall_model(), name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(3),

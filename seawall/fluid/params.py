@@ -30,6 +30,7 @@ class Physics(NamedTuple):
     nu: float             # laminar kinematic viscosity [m^2/s]
     diffusion: int
     delta: float
+    lagged_gradient: int  # delta-SPH: use the previous evaluation's <grad rho>^L (one pass)
     tensile: int          # Monaghan (2000) tensile correction on/off
     inv_w_dx: float       # 1 / W(dx) for the tensile correction
     xsph: float           # XSPH epsilon (0 = off)

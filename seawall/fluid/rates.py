@@ -85,6 +85,39 @@ def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncel
         rho[i] = acc
 
 
+@njit(cache=True, inline="always")
+def store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2):
+    """grad[i] = A^-1 g for the symmetric renormalisation matrix A (seed 003 eq. 15).
+
+    Where det A < 1e-2 (A is ~identity in the bulk; a droplet or a particle with
+    few neighbours) the plain kernel gradient g is stored instead.
+    """
+    if dim == 2:
+        det = a00 * a11 - a01 * a01
+        if det > 1e-2:
+            grad[i, 0] = (a11 * g0 - a01 * g1) / det
+            grad[i, 1] = (-a01 * g0 + a00 * g1) / det
+        else:
+            grad[i, 0] = g0
+            grad[i, 1] = g1
+    else:
+        c00 = a11 * a22 - a12 * a12
+        c01 = a02 * a12 - a01 * a22
+        c02 = a01 * a12 - a02 * a11
+        det = a00 * c00 + a01 * c01 + a02 * c02
+        if det > 1e-2:
+            c11 = a00 * a22 - a02 * a02
+            c12 = a01 * a02 - a00 * a12
+            c22 = a00 * a11 - a01 * a01
+            grad[i, 0] = (c00 * g0 + c01 * g1 + c02 * g2) / det
+            grad[i, 1] = (c01 * g0 + c11 * g1 + c12 * g2) / det
+            grad[i, 2] = (c02 * g0 + c12 * g1 + c22 * g2) / det
+        else:
+            grad[i, 0] = g0
+            grad[i, 1] = g1
+            grad[i, 2] = g2
+
+
 @njit(cache=True, parallel=True, fastmath=True)
 def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_cell, ncell, period, prm, grad):
     """<grad rho>_i^L of seed 003 eq. 14-15 (Randles & Libersky renormalisation).
@@ -134,35 +167,12 @@ def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_
                     g0 += t * d0
                     g1 += t * d1
                     g2 += t * d2
-        if dim == 2:
-            det = a00 * a11 - a01 * a01
-            if det > 1e-2:
-                grad[i, 0] = (a11 * g0 - a01 * g1) / det
-                grad[i, 1] = (-a01 * g0 + a00 * g1) / det
-            else:
-                grad[i, 0] = g0
-                grad[i, 1] = g1
-        else:
-            c00 = a11 * a22 - a12 * a12
-            c01 = a02 * a12 - a01 * a22
-            c02 = a01 * a12 - a02 * a11
-            det = a00 * c00 + a01 * c01 + a02 * c02
-            if det > 1e-2:
-                c11 = a00 * a22 - a02 * a02
-                c12 = a01 * a02 - a00 * a12
-                c22 = a00 * a11 - a01 * a01
-                grad[i, 0] = (c00 * g0 + c01 * g1 + c02 * g2) / det
-                grad[i, 1] = (c01 * g0 + c11 * g1 + c12 * g2) / det
-                grad[i, 2] = (c02 * g0 + c12 * g1 + c22 * g2) / det
-            else:
-                grad[i, 0] = g0
-                grad[i, 1] = g1
-                grad[i, 2] = g2
+        store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
 
 
 @njit(cache=True, parallel=True, fastmath=True)
 def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start, order, lo, inv_cell, ncell, period, prm,
-                dv, drho, xsph, mu_max):
+                dv, drho, xsph, mu_max, grad_rho_next):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
 
     Overwrites ``dv``, ``drho``, ``xsph``; ``mu_max[i]`` receives max_j |mu_ij|
@@ -182,6 +192,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
     eta2 = prm.eta2
     diffusion = prm.diffusion
     renorm = diffusion == DIFFUSION_RENORMALISED
+    lagged = renorm and prm.lagged_gradient
     diff_coef = prm.delta * h * prm.c0
     tensile = prm.tensile
     use_xsph = prm.xsph > 0.0
@@ -205,6 +216,8 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
         dr = 0.0
         x0 = x1 = x2 = 0.0
         mumax = 0.0
+        a00 = a01 = a02 = a11 = a12 = a22 = 0.0
+        g0 = g1 = g2 = 0.0
         for row in range(nrows):
             for part in range(2):
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
@@ -262,6 +275,20 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                         if renorm:
                             gj0, gj1, gj2 = point_of(grad_rho, j, dim)
                             psi_dot -= ((gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2) * f
+                        if lagged:
+                            # this state's <grad rho>^L, used by the next evaluation (seed 003 eq. 14-15)
+                            vol = volume[j]
+                            sv = -f * vol
+                            a00 += sv * d0 * d0
+                            a01 += sv * d0 * d1
+                            a02 += sv * d0 * d2
+                            a11 += sv * d1 * d1
+                            a12 += sv * d1 * d2
+                            a22 += sv * d2 * d2
+                            t = vol * (rhoj - rhoi) * f
+                            g0 += t * d0
+                            g1 += t * d1
+                            g2 += t * d2
                         dr += diff_coef * volume[j] * psi_dot
                     if use_xsph:
                         wx = prm.sigma * kernel_shape(prm.kernel, qq) * mj / (0.5 * (rhoi + rhoj))
@@ -279,3 +306,5 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
         if dim == 3:
             xsph[i, 2] = eps * x2
         mu_max[i] = mumax
+        if lagged:
+            store_renormalised_gradient(grad_rho_next, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
