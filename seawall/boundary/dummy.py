@@ -12,6 +12,16 @@ the variants is how the wall particles' pressure and density are found (the
 
   and rho_b from the inverse equation of state. Wall particles with no fluid
   neighbour get p_b = 0 (reference density).
+* ``summation`` -- rho_b = sum_j m_j W_bj over fluid and wall neighbours, self
+  included (seed 004, "SummationDensity"; seed 000 eq. 7), p_b = EOS(rho_b).
+* ``continuity`` -- drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf (seed 004,
+  "ContinuityDensity"; seed 000 eq. 8), p_b = EOS(rho_b). The wall density is
+  advanced between evaluations by the rate of the previous one (explicit
+  Euler over the interval between evaluations).
+* ``zeroing`` -- rho_b = rho0, p_b = p(rho0) (seed 004, "PressureZeroing").
+* ``mirroring`` -- rho_b = rho0 and, in the momentum equation, p_b = p_a of the
+  interacting fluid particle (seed 004, "PressureMirroring", after Akinci et
+  al. 2012 and Band et al. 2018).
 
 The wall mass is the "hydrodynamic mass" rho0 dx^d of a fluid particle at
 the wall spacing (seed 004), independent of any wall material density.
@@ -29,13 +39,14 @@ viscosity -- the equivalence given in seed 004).
 import numpy as np
 from numba import njit, prange
 
-from ..eos import eos_density
+from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
 from .base import WallModel
 
 SLIP_MODES = ("free", "noslip")
+DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring")
 
 
 @njit(cache=True, parallel=True, fastmath=True)
@@ -94,6 +105,91 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv
                 vw_visc[b, 1] = vb1
                 if dim == 3:
                     vw_visc[b, 2] = vb2
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, order_f, lo, inv_cell, ncell,
+                           period, prm, clip_negative, rhow, pw):
+    """rho_b = sum_j m_j W_bj over wall (self included) and fluid neighbours; p_b = EOS(rho_b).
+
+    Seed 004 "SummationDensity"; seed 000 eq. 7. With ``clip_negative`` the
+    pressure is floored at the background pressure: the outer wall layers
+    miss neighbours beyond the wall, so their summed density is below rho0
+    (990 and 763 kg/m^3 in layers 2 and 3 at h = 1.3 dx) and unclipped they
+    suck the nearest fluid into the wall.
+    """
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    nw = xw.shape[0]
+    inv_h = 1.0 / prm.h
+    nrows = 25 if dim == 3 else 5
+    for b in prange(nw):
+        p0, p1, p2 = point_of(xw, b, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        acc = 0.0
+        for which in range(2):
+            for row in range(nrows):
+                for part in range(2):
+                    if which == 0:
+                        ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start_w)
+                    else:
+                        ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start_f)
+                    for k in range(ka, kb):
+                        j = order_w[k] if which == 0 else order_f[k]
+                        if which == 0:
+                            q0, q1, q2 = point_of(xw, j, dim)
+                        else:
+                            q0, q1, q2 = point_of(xf, j, dim)
+                        d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
+                        d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
+                        d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
+                        r2 = d0 * d0 + d1 * d1 + d2 * d2
+                        if r2 >= prm.support2:
+                            continue
+                        mj = mw[j] if which == 0 else mf[j]
+                        acc += mj * prm.sigma * kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
+        rhow[b] = acc
+        pb = eos_pressure(prm.eos, acc, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        if clip_negative and pb < prm.p_background:
+            pb = prm.p_background
+        pw[b] = pb
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv_cell, ncell, period, prm,
+                         drhow, pw):
+    """drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf and p_b = EOS(rho_b).
+
+    Seed 004 "ContinuityDensity"; seed 000 eq. 8 written for wall particle b.
+    """
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    nw = xw.shape[0]
+    inv_h = 1.0 / prm.h
+    nrows = 25 if dim == 3 else 5
+    gradient_scale = prm.sigma * inv_h * inv_h
+    for b in prange(nw):
+        p0, p1, p2 = point_of(xw, b, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        vb0, vb1, vb2 = point_of(vw, b, dim)
+        dr = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    f = order[k]
+                    q0, q1, q2 = point_of(xf, f, dim)
+                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
+                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
+                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
+                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    fac = gradient_scale * kernel_gradient_factor(prm.kernel, np.sqrt(r2) * inv_h)
+                    u0, u1, u2 = point_of(vf, f, dim)
+                    dr += mf[f] * ((vb0 - u0) * d0 + (vb1 - u1) * d1 + (vb2 - u2) * d2) * fac
+        drhow[b] = dr
+        pw[b] = eos_pressure(prm.eos, rhow[b], prm.rho0, prm.c0, prm.gamma, prm.p_background)
 
 
 @njit(cache=True, parallel=True, fastmath=True)
@@ -164,10 +260,13 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
 
 
 class DummyParticles(WallModel):
-    """Dummy-particle wall with Adami pressure extrapolation (seed 004).
+    """Dummy-particle wall with one of the five density calculators of seed 004.
 
     Parameters
     ----------
+    density : {"adami", "summation", "continuity", "zeroing", "mirroring"}
+        How the wall particles' pressure and density are found (default
+        ``adami``, the one seed 004 recommends).
     slip : {"free", "noslip"}
         Free slip (default, no viscous wall term) or no slip through the
         Adami wall velocity 2 v_wall - (Shepard average of fluid velocity).
@@ -175,29 +274,36 @@ class DummyParticles(WallModel):
         Kinematic viscosity of the no-slip wall term [m^2/s]; default: the
         fluid's laminar nu, else alpha h c0 / (2d + 4) from its artificial
         viscosity (seed 004).
-    clip_negative_pressure : bool
-        Clip negative extrapolated wall pressure to the background pressure
-        (off by default, as in seed 004).
+    clip_negative_pressure : bool, optional
+        Clip negative wall pressure to the background pressure. Default: off
+        for ``adami`` (as in seed 004), on for ``summation`` (see
+        :func:`wall_summation_density` for why); ignored by the others.
     """
 
-    name = "adami"
-
-    def __init__(self, *, slip="free", nu=None, clip_negative_pressure=False):
+    def __init__(self, *, density="adami", slip="free", nu=None, clip_negative_pressure=None):
+        if density not in DENSITY_CALCULATORS:
+            raise ParameterError(f"density must be one of {', '.join(DENSITY_CALCULATORS)}; got {density!r}")
         if slip not in SLIP_MODES:
             raise ParameterError(f"slip must be one of {', '.join(SLIP_MODES)}; got {slip!r}")
+        self.density = density
         self.slip = slip
         self.nu = None if nu is None else require_nonnegative("nu", nu)
+        if clip_negative_pressure is None:
+            clip_negative_pressure = density == "summation"
         self.clip_negative_pressure = bool(clip_negative_pressure)
-        self.name = "adami" if slip == "free" else "adami-noslip"
+        self.name = density if slip == "free" else f"{density}-noslip"
         self._wall_nu = 0.0
+        self._last_time = None
 
     def prepare(self, wall, fluid, physics):
         n = wall.n
         pa = wall.particles
-        pa["p"] = np.zeros(n)
+        pa["p"] = np.full(n, physics.p_background)
         pa["rho"] = np.full(n, physics.rho0)
         pa["m"] = np.full(n, physics.rho0 * wall.spacing ** wall.dim)
         pa["v_visc"] = pa["v"].copy()
+        if self.density == "continuity":
+            pa["drho"] = np.zeros(n)
         if self.slip == "noslip":
             if self.nu is not None:
                 self._wall_nu = self.nu
@@ -212,10 +318,28 @@ class DummyParticles(WallModel):
         g = ctx.grid
         pa = wall.particles
         fp = fluid.particles
-        adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
-                         ctx.fluid_cells.start, ctx.fluid_cells.order, g.lo, g.inv_cell, g.ncell,
-                         g.period, ctx.physics, self.slip == "noslip", self.clip_negative_pressure,
-                         pa["p"], pa["rho"], pa["v_visc"])
+        cells = ctx.fluid_cells
+        prm = ctx.physics
+        noslip = self.slip == "noslip"
+        if self.density == "adami" or noslip:
+            # the Adami pass also yields the no-slip wall velocity for every calculator
+            adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
+                             cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, noslip,
+                             self.clip_negative_pressure, pa["p"], pa["rho"], pa["v_visc"])
+        if self.density == "summation":
+            wall_summation_density(g.layout, pa["x"], pa["m"], wall.cells.start, wall.cells.order, fp["x"],
+                                   fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
+                                   prm, self.clip_negative_pressure, pa["rho"], pa["p"])
+        elif self.density == "continuity":
+            if self._last_time is not None:
+                dt = ctx.time - self._last_time
+                pa["rho"] += dt * pa["drho"]
+            self._last_time = ctx.time
+            wall_continuity_rate(g.layout, pa["x"], pa["v"], pa["rho"], fp["x"], fp["v"], fp["m"], cells.start,
+                                 cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, pa["drho"], pa["p"])
+        elif self.density in ("zeroing", "mirroring"):
+            pa["rho"][:] = prm.rho0
+            pa["p"][:] = prm.p_background
 
     def interact(self, fluid, wall, ctx, dv, drho):
         g = ctx.grid
@@ -223,7 +347,15 @@ class DummyParticles(WallModel):
         fp = fluid.particles
         dummy_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], pa["x"], pa["v"], pa["v_visc"],
                           pa["rho"], pa["p"], pa["m"], wall.cells.start, wall.cells.order, g.lo,
-                          g.inv_cell, g.ncell, g.period, ctx.physics, False, self._wall_nu, dv, drho)
+                          g.inv_cell, g.ncell, g.period, ctx.physics, self.density == "mirroring",
+                          self._wall_nu, dv, drho)
+
+    def state(self):
+        """Model state that a checkpoint must keep (continuity's last evaluation time)."""
+        return {"last_time": self._last_time}
+
+    def set_state(self, state):
+        self._last_time = state.get("last_time")
 
     def describe(self):
         return self.name

@@ -8,14 +8,15 @@ from ..errors import ParameterError
 from .dummy import DummyParticles
 
 
-def _adami(options):
-    return DummyParticles(slip="free", clip_negative_pressure=_flag(options.pop("clip_negative", False)))
-
-
-def _adami_noslip(options):
-    nu = options.pop("wall_nu", None)
-    return DummyParticles(slip="noslip", nu=None if nu is None else float(nu),
-                          clip_negative_pressure=_flag(options.pop("clip_negative", False)))
+def _dummy(density, default_slip="free"):
+    def factory(options):
+        slip = options.pop("slip", default_slip)
+        nu = options.pop("wall_nu", None)
+        clip = options.pop("clip_negative", None)
+        clip = None if clip is None else _flag(clip)
+        return DummyParticles(density=density, slip=slip, nu=None if nu is None else float(nu),
+                              clip_negative_pressure=clip)
+    return factory
 
 
 def _flag(value):
@@ -31,8 +32,12 @@ def _flag(value):
 
 #: name -> (factory, one-line description)
 BOUNDARIES = {
-    "adami": (_adami, "dummy particles, Adami et al. (2012) pressure extrapolation, free slip"),
-    "adami-noslip": (_adami_noslip, "dummy particles, Adami pressure extrapolation, no slip (Adami wall velocity)"),
+    "adami": (_dummy("adami"), "dummy particles, Adami et al. (2012) pressure extrapolation, free slip"),
+    "adami-noslip": (_dummy("adami", "noslip"), "dummy particles, Adami pressure extrapolation, no slip (Adami wall velocity)"),
+    "summation": (_dummy("summation"), "dummy particles, wall density by summation, EOS pressure"),
+    "continuity": (_dummy("continuity"), "dummy particles, wall density by the continuity equation, EOS pressure"),
+    "zeroing": (_dummy("zeroing"), "dummy particles at reference density and pressure (pressure zeroing)"),
+    "mirroring": (_dummy("mirroring"), "dummy particles mirroring the fluid particle's pressure (pressure mirroring)"),
 }
 
 
