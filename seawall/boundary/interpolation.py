@@ -82,11 +82,20 @@ def shepard_beta(q, lam):
 
 
 @njit(cache=True, inline="always")
+def shepard_weight_q2(q2, mu, lam):
+    """phi^mu from q^2: (beta/q)^mu = exp(-mu q^2 / (1 - q^lambda)) q^-mu, one exp and
+    (for the defaults lambda = 2, mu = 4) no pow."""
+    if q2 >= 1.0:
+        return 0.0
+    ql = q2 if lam == 2.0 else q2 ** (0.5 * lam)
+    qm = q2 * q2 if mu == 4.0 else q2 ** (0.5 * mu)
+    return math.exp(-mu * q2 / (1.0 - ql)) / qm
+
+
+@njit(cache=True, inline="always")
 def shepard_weight(q, mu, lam):
     """Unnormalised improved Shepard weight phi(q)^mu, phi = beta(q)/q (seed 001 eq. 19-20)."""
-    if q >= 1.0:
-        return 0.0
-    return (shepard_beta(q, lam) / q) ** mu
+    return shepard_weight_q2(q * q, mu, lam)
 
 
 @njit(cache=True)
@@ -188,7 +197,7 @@ def improved_shepard_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nf = fields.shape[1]
-    inv_r = 1.0 / np.sqrt(prm.support2)
+    inv_r2 = 1.0 / prm.support2
     nrows = 25 if dim == 3 else 5
     cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
     for q in range(nf):
@@ -208,11 +217,11 @@ def improved_shepard_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo
                 r2 = d0 * d0 + d1 * d1 + d2 * d2
                 if r2 >= prm.support2:
                     continue
-                qq = np.sqrt(r2) * inv_r
-                if qq < 1e-9:
+                q2 = r2 * inv_r2
+                if q2 < 1e-18:
                     hit = j
                     continue
-                w = shepard_weight(qq, mu, lam)
+                w = shepard_weight_q2(q2, mu, lam)
                 if w <= 0.0:
                     continue
                 sw += w
