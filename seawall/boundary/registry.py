@@ -6,6 +6,8 @@ A factory takes the options given with ``--set KEY=VALUE`` that it knows
 
 from ..errors import ParameterError
 from .dummy import DummyParticles
+from .ghost import GhostParticles
+from .interpolation import MLS, SFDI, ImprovedShepard, Normalised
 
 
 def _dummy(density, default_slip="free"):
@@ -17,6 +19,18 @@ def _dummy(density, default_slip="free"):
         return DummyParticles(density=density, slip=slip, nu=None if nu is None else float(nu),
                               clip_negative_pressure=clip)
     return factory
+
+
+def _ghost(make):
+    """Factory of a ghost-particle wall (seed 001) with interpolation ``make(options)``; ``slip=free|noslip``."""
+    def factory(options):
+        slip = str(options.pop("slip", "free"))
+        return GhostParticles(make(options), slip=slip)
+    return factory
+
+
+def _shepard(options):
+    return ImprovedShepard(mu=float(options.pop("shepard_mu", 4.0)), lam=float(options.pop("shepard_lambda", 2.0)))
 
 
 def _flag(value):
@@ -38,6 +52,16 @@ BOUNDARIES = {
     "continuity": (_dummy("continuity"), "dummy particles, wall density by the continuity equation, EOS pressure"),
     "zeroing": (_dummy("zeroing"), "dummy particles at reference density and pressure (pressure zeroing)"),
     "mirroring": (_dummy("mirroring"), "dummy particles mirroring the fluid particle's pressure (pressure mirroring)"),
+    "ghost-mls1": (_ghost(lambda o: MLS(1)),
+                   "fixed ghost particles, MLS linear interpolation at mirror points (seed 001); slip=free|noslip"),
+    "ghost-mls2": (_ghost(lambda o: MLS(2)),
+                   "fixed ghost particles, MLS quadratic interpolation at mirror points (seed 001); slip=free|noslip"),
+    "ghost-sfdi": (_ghost(lambda o: SFDI(diagonal=_flag(o.pop("sfdi_diagonal", False)))),
+                   "fixed ghost particles, SFDI interpolation (Ma 2008, seed 001); slip=free|noslip, sfdi_diagonal"),
+    "ghost-normalized": (_ghost(lambda o: Normalised()),
+                         "fixed ghost particles, normalised (Shepard kernel) interpolation (seed 001); slip=free|noslip"),
+    "ghost-shepard": (_ghost(_shepard),
+                      "fixed ghost particles, improved Shepard interpolation (seed 001); slip, shepard_mu, shepard_lambda"),
 }
 
 

@@ -18,11 +18,56 @@ from ..eos import Tait
 from ..errors import ParameterError, require_positive
 from ..fluid import ArtificialViscosity, DeltaSPH, FluidSystem
 from ..integrators import Symplectic
+from ..fluid.presets import marrone2011
 from ..kernels import CubicSpline
 from ..simulation import Simulation
 from .base import GRAVITY, Case, Parameter, wall_layers
 
 RHO0 = 1000.0
+
+
+SCHEMES = ("standard", "marrone2011")
+
+
+def _scheme(params, c0):
+    """(kernel, fluid factory) of the chosen scheme: the cases' standard one or seed 001's delta-SPH."""
+    scheme = params.get("scheme", "standard")
+    if scheme not in SCHEMES:
+        raise ParameterError(f"scheme must be one of {', '.join(SCHEMES)}; got {scheme!r}")
+    if scheme == "marrone2011":
+        preset = marrone2011(c0, alpha=params["alpha"], delta=params["delta"])
+        return preset.kernel, lambda block, pressure=None: preset.fluid(block, rho0=RHO0, pressure=pressure)
+    return CubicSpline(), lambda block, pressure=None: _fluid(block, params, c0=c0, pressure=pressure)
+
+
+def _integrator(params):
+    dt = params.get("dt") or None
+    return Symplectic(cfl=params["cfl"], dt=dt)
+
+
+def dam_break_pressure(x, y, L, H, *, rho0=RHO0, c0, g=GRAVITY, n_terms=400):
+    """Initial pressure of a water column [0, L] x [0, H] released at t = 0 (seed 001 sec. 4.2, eq. 22-24).
+
+    Solves the Laplace problem  lap P = 0,  dP/dy = -rho g at y = 0 (rho = rho0 + P/c0^2,
+    the linear EOS), dP/dx = 0 at x = 0, P = 0 at x = L and y = H:
+
+        P = c0^2 sum_n alpha_n cos(lambda_n x) sinh(lambda_n (H - y)),   lambda_n = (n + 1/2) pi / L,
+        alpha_n = rho0 g sin(lambda_n L) / [lambda_n (c0^2 lambda_n cosh(lambda_n H) - g sinh(lambda_n H))
+                                              (L/2 + sin(2 lambda_n L) / (4 lambda_n))].
+
+    Evaluated with sinh(lambda (H - y)) / cosh(lambda H) written in decaying
+    exponentials so that no term overflows.
+    """
+    x = np.asarray(x, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    p = np.zeros(np.broadcast(x, y).shape)
+    for n in range(n_terms):
+        lam = (n + 0.5) * math.pi / L
+        norm = 0.5 * L + math.sin(2.0 * lam * L) / (4.0 * lam)
+        coef = rho0 * g * math.sin(lam * L) / (lam * (c0 * c0 * lam - g * math.tanh(lam * H)) * norm)
+        ratio = (np.exp(-lam * y) - np.exp(-lam * (2.0 * H - y))) / (1.0 + math.exp(-2.0 * lam * H))
+        p += c0 * c0 * coef * np.cos(lam * x) * ratio
+    return p
 
 
 def _fluid(block, params, *, c0, pressure=None):
@@ -68,6 +113,13 @@ COMMON = {
     "lagged_gradient": Parameter(True, "delta-SPH gradient from the previous evaluation (one pass); false = two passes", bool),
 }
 
+#: parameters of the cases that can run seed 001's settings
+SEED001 = {
+    "scheme": Parameter("standard", "fluid scheme: standard (Tait, cubic spline) or marrone2011 "
+                        "(seed 001: linear EOS, Gaussian cut at 3h, delta-SPH)", str),
+    "dt": Parameter(0.0, "fixed time step [s] (0 = adaptive CFL; seed 001 uses 1e-4)"),
+}
+
 
 # ---------------------------------------------------------------- hydrostatic
 def build_hydrostatic(params, wall_model, threads):
@@ -81,15 +133,15 @@ def build_hydrostatic(params, wall_model, threads):
         raise ParameterError(f"depth ({depth} m) must be below the tank height ({params['height']} m)")
     c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * depth)
     params["c0"] = c0
-    kernel = CubicSpline()
-    fluid = _fluid(shapes.rectangle((0.0, 0.0), (length, depth), dx), params, c0=c0,
-                   pressure=_hydrostatic(depth, c0, 2) if params["initial"] == "hydrostatic" else None)
+    kernel, make_fluid = _scheme(params, c0)
+    fluid = make_fluid(shapes.rectangle((0.0, 0.0), (length, depth), dx),
+                       pressure=_hydrostatic(depth, c0, 2) if params["initial"] == "hydrostatic" else None)
     if params["initial"] not in ("hydrostatic", "rest"):
         raise ParameterError(f"initial must be 'hydrostatic' or 'rest', got {params['initial']!r}")
     tank = shapes.tank((0.0, 0.0), (snap(length, dx), snap(params["height"], dx)), dx, layers=wall_layers(kernel, h, dx))
     walls = WallSystem(tank, model=wall_model(), name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
-                     integrator=Symplectic(cfl=params["cfl"]), threads=threads)
+                     integrator=_integrator(params), threads=threads)
     for k, y in enumerate((0.0, 0.1, 0.2, 0.25)):
         if y <= depth:
             sim.add(probes.WallPressure(f"P{k}", (0.0, y)))
@@ -102,7 +154,7 @@ HYDROSTATIC = Case(
     name="hydrostatic",
     description="still water 0.3 m deep in a 1 m tank, wall pressure probes P0-P3 (seed 001 sec. 4.1)",
     builder=build_hydrostatic,
-    parameters={**COMMON,
+    parameters={**COMMON, **SEED001,
                 "depth": Parameter(0.3, "water depth [m]"),
                 "length": Parameter(1.0, "tank length [m]"),
                 "height": Parameter(0.4, "tank wall height [m]"),
@@ -126,12 +178,18 @@ def build_dam_break(params, wall_model, threads):
     c0 = params["c0"] or 10.0 * math.sqrt(2 * GRAVITY * H)
     params["c0"] = c0
     length = snap(5.366 * H, dx)
-    kernel = CubicSpline()
-    fluid = _fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), params, c0=c0)
+    kernel, make_fluid = _scheme(params, c0)
+    if params["initial"] not in ("rest", "analytic"):
+        raise ParameterError(f"initial must be 'rest' or 'analytic', got {params['initial']!r}")
+    pressure = None
+    if params["initial"] == "analytic":
+        def pressure(x):
+            return dam_break_pressure(x[:, 0], x[:, 1], 2.0 * H, H, c0=c0)
+    fluid = make_fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), pressure=pressure)
     tank = shapes.tank((0.0, 0.0), (length, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
     walls = WallSystem(tank, model=wall_model(), name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
-                     integrator=Symplectic(cfl=params["cfl"]), threads=threads)
+                     integrator=_integrator(params), threads=threads)
     for name, frac in (("S1", 0.010), ("S2", 0.050), ("S3", 0.100), ("S4", 0.2667), ("P1", 0.2)):
         sim.add(probes.WallPressure(name, (length, frac * H)))
     sim.add(probes.SurgeFront("front"), probes.KineticEnergy(), probes.TotalMass())
@@ -142,7 +200,9 @@ DAM_BREAK = Case(
     name="dam-break",
     description="2D dam break, column 2H x H in a 5.366 H tank, wall sensors S1-S4, P1 and surge front",
     builder=build_dam_break,
-    parameters={**COMMON, "H": Parameter(0.3, "column height [m] (0.3 ETSIN, 0.6 Buchner)")},
+    parameters={**COMMON, **SEED001, "H": Parameter(0.3, "column height [m] (0.3 ETSIN, 0.6 Buchner)"),
+                "initial": Parameter("rest", "initial pressure: rest (p = 0) or analytic (seed 001 sec. 4.2, "
+                                     "Laplace-problem series)", str)},
     t_end=1.5, probe_every=5e-4, output_every=0.02)
 
 

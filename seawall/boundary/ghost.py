@@ -1,0 +1,298 @@
+"""Fixed ghost particles with mirror-point interpolation (seed 001, Huang et al. 2019).
+
+The wall is a set of fixed particles in layers outside the fluid (seed 001
+sec. 2.2, Fig. 1). Each ghost particle G at x_G has a mirror (interpolation)
+point x_M, its reflection across the wall surface along the wall normal:
+
+    x_M = 2 s_G - x_G,   s_G = closest point of the wall surface,   n = (s_G - x_G)/|s_G - x_G|.
+
+Both come from the wall geometry (``seawall.shapes``: ``surface_points``
+and ``normals``); at a corner s_G is the corner point itself, so x_M is the
+reflection through the corner and lies inside the fluid, not in the other
+wall (see :func:`mirror_diagnostics`).
+
+Before each evaluation of the fluid's rates (``update``) the fluid state is
+interpolated at x_M by one of the methods of
+:mod:`seawall.boundary.interpolation` and copied to G with the laws of
+mirror (seed 001 sec. 2.2):
+
+* pressure, Neumann condition dp/dn = rho (g - a_w) . n (sec. 2.2) integrated
+  along the segment from x_M to x_G:
+
+      p_G = p_M + rho_M (g - a_w) . (x_G - x_M)
+
+  with rho_M the inverse EOS of p_M and a_w the wall's acceleration. Since
+  x_G - x_M = -2 d_w n, with d_w = |s_G - x_G| the ghost's distance to the
+  wall, this is p_M - 2 d_w rho (g - a_w) . n: the "2 d rho g . n" of the
+  seed's eq. 13, 16 and 21 (d = distance from the ghost to the wall) and the
+  "d rho g . n" of eq. 8 (d = distance from the ghost to its mirror point)
+  are the same term; the seed's two d's differ by the factor 2
+  (docs/ghost.md, with the measurement).
+* density: rho_G = EOS^-1(p_G); mass: the hydrodynamic mass rho0 dx^d.
+* velocity, relative to the wall's own velocity v_w (u = v_M - v_w):
+  free slip reverses the normal component, u_G = u - 2 (u . n) n; no slip
+  reverses both, u_G = -u; then v_G = v_w + u_G.
+
+``interact`` adds the ghosts' terms to the fluid's rates; ghost particles
+enter the fluid's equations as ordinary neighbours (Marrone et al. 2011,
+seed 001 sec. 2.1) with their mirrored state:
+
+    drho_i/dt += m_G (v_i - v_G) . grad_i W_iG
+    dv_i/dt   -= m_G (p_i/rho_i^2 + p_G/rho_G^2 + Pi_iG) grad_i W_iG   (+ laminar term)
+
+with the fluid's artificial viscosity Pi (seed 000 eq. 6) and laminar
+viscosity (seed 003 eq. 9). The density-diffusion term is not applied
+across the wall (ghost densities include the hydrostatic jump, and the
+renormalised gradient is not available at ghosts).
+"""
+
+import os
+
+import numpy as np
+from numba import njit, prange
+
+from ..eos import eos_density, eos_sound_speed
+from ..errors import ParameterError
+from ..kernels import kernel_shape_dq
+from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from .base import WallModel
+from .interpolation import (INTERPOLATIONS, Interpolation, interpolate_points)
+
+SLIP_MODES = ("free", "noslip")
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm, noslip, pg, rhog, vg):
+    """Laws of mirror (seed 001 sec. 2.2): ghost p, rho, v from the values interpolated at the mirror points.
+
+    ``interp[:, 0]`` is the pressure, ``interp[:, 1:]`` the velocity at x_M.
+    A ghost whose mirror point has no fluid neighbour gets the background
+    pressure, rho0 and the wall velocity.
+    """
+    dim = tag_dim(layout)
+    for b in prange(xg.shape[0]):
+        vw0, vw1, vw2 = point_of(vwall, b, dim)
+        if count[b] == 0:
+            pg[b] = prm.p_background
+            rhog[b] = prm.rho0
+            vg[b, 0] = vw0
+            vg[b, 1] = vw1
+            if dim == 3:
+                vg[b, 2] = vw2
+            continue
+        pm = interp[b, 0]
+        rhom = eos_density(prm.eos, pm, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        x0, x1, x2 = point_of(xg, b, dim)
+        m0, m1, m2 = point_of(mirror, b, dim)
+        a0, a1, a2 = point_of(awall, b, dim)
+        gterm = (prm.gx - a0) * (x0 - m0) + (prm.gy - a1) * (x1 - m1) + (prm.gz - a2) * (x2 - m2)
+        p = pm + rhom * gterm
+        pg[b] = p
+        rhog[b] = eos_density(prm.eos, p, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        u0 = interp[b, 1] - vw0
+        u1 = interp[b, 2] - vw1
+        u2 = (interp[b, 3] - vw2) if dim == 3 else 0.0
+        if noslip:
+            vg[b, 0] = vw0 - u0
+            vg[b, 1] = vw1 - u1
+            if dim == 3:
+                vg[b, 2] = vw2 - u2
+        else:
+            n0, n1, n2 = point_of(normal, b, dim)
+            un = 2.0 * (u0 * n0 + u1 * n1 + u2 * n2)
+            vg[b, 0] = vw0 + u0 - un * n0
+            vg[b, 1] = vw1 + u1 - un * n1
+            if dim == 3:
+                vg[b, 2] = vw2 + u2 - un * n2
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, order, lo, inv_cell, ncell, period,
+                 prm, dv, drho):
+    """Add the ghost particles' terms to the fluid's rates (gather over ghost cells; formulas in the module doc)."""
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    nf = xf.shape[0]
+    h = prm.h
+    inv_h = 1.0 / h
+    nrows = 25 if dim == 3 else 5
+    dwq = prm.sigma * inv_h
+    eta2 = prm.eta2
+    alpha = prm.alpha
+    beta = prm.beta
+    nu = prm.nu
+    for i in prange(nf):
+        p0, p1, p2 = point_of(xf, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        vi0, vi1, vi2 = point_of(vf, i, dim)
+        rhoi = rhof[i]
+        pr_i = pf[i] / (rhoi * rhoi)
+        ci = cf[i]
+        a0 = a1 = a2 = 0.0
+        dr = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    b = order[k]
+                    q0, q1, q2 = point_of(xg, b, dim)
+                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
+                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
+                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
+                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    r = np.sqrt(r2)
+                    f = dwq * kernel_shape_dq(prm.kernel, r * inv_h) / r
+                    mb = mg[b]
+                    rhob = rhog[b]
+                    w0, w1, w2 = point_of(vg, b, dim)
+                    u0 = vi0 - w0
+                    u1 = vi1 - w1
+                    u2 = vi2 - w2
+                    vr = u0 * d0 + u1 * d1 + u2 * d2
+                    dr += mb * vr * f
+                    coef = pr_i + pg[b] / (rhob * rhob)
+                    if alpha > 0.0 and vr < 0.0:
+                        mu = h * vr / (r2 + eta2)
+                        cb = eos_sound_speed(prm.eos, rhob, prm.rho0, prm.c0, prm.gamma)
+                        coef += (-alpha * 0.5 * (ci + cb) * mu + beta * mu * mu) / (0.5 * (rhoi + rhob))
+                    s = -mb * coef * f
+                    a0 += s * d0
+                    a1 += s * d1
+                    a2 += s * d2
+                    if nu > 0.0:
+                        lam = mb * nu * (rhoi + rhob) / (rhoi * rhob) * f * r2 / (r2 + eta2)
+                        a0 += lam * u0
+                        a1 += lam * u1
+                        a2 += lam * u2
+        dv[i, 0] += a0
+        dv[i, 1] += a1
+        if dim == 3:
+            dv[i, 2] += a2
+        drho[i] += dr
+
+
+def mirror_points(surface_points, positions):
+    """Mirror (interpolation) points 2 s - x of wall particles (seed 001 sec. 2.2, Fig. 1)."""
+    return 2.0 * np.asarray(surface_points, dtype=np.float64) - np.asarray(positions, dtype=np.float64)
+
+
+def mirror_diagnostics(positions, surface_points, spacing):
+    """Check the mirror points of a wall: for each particle, the distance from its
+    mirror point to the nearest wall particle, in units of the spacing.
+
+    A mirror point inside the fluid lies at least ~0.5 dx from every wall
+    particle (1 dx for a first-layer particle on a lattice); a value below
+    0.5 flags a mirror point that fell into the wall itself or into another
+    wall (e.g. a wrongly chosen surface point at a corner).
+
+    Returns (mirror points, distance / dx).
+    """
+    from ..shapes import _nearest_distances
+
+    x = np.asarray(positions, dtype=np.float64)
+    m = mirror_points(surface_points, x)
+    dist = _nearest_distances(m, x, 2.0 * spacing)  # exact below 2 dx, larger values are bounds
+    return m, dist / spacing
+
+
+def export_ghost_vtu(wall, directory):
+    """Write the ghost particles and their mirror points as two VTU files for inspection.
+
+    ``DIR/ghost_<name>.vtu``: ghost positions with ``normal``, ``to_mirror``
+    (x_M - x_G, glyph it in ParaView), ``distance_to_wall`` and, once the
+    model has run, pressure/density/velocity. ``DIR/mirror_<name>.vtu``:
+    the mirror points with the ghost ``id`` and ``nearest_wall_over_dx``
+    (:func:`mirror_diagnostics`). Returns both paths.
+    """
+    from ..io.vtk import write_vtu
+
+    pa = wall.particles
+    if "surface" not in pa or "normal" not in pa:
+        raise ParameterError(f"wall {wall.name!r} has no surface points/normals (use seawall.shapes walls)")
+    os.makedirs(directory, exist_ok=True)
+    x = pa["x"]
+    mirror, near = mirror_diagnostics(x, pa["surface"], wall.spacing)
+    data = {"id": pa["id"], "normal": pa["normal"], "to_mirror": mirror - x,
+            "distance_to_wall": np.linalg.norm(pa["surface"] - x, axis=1)}
+    for key, name in (("p", "pressure"), ("rho", "density"), ("v_ghost", "ghost_velocity")):
+        if key in pa:
+            data[name] = pa[key]
+    g = write_vtu(os.path.join(directory, f"ghost_{wall.name}.vtu"), x, data)
+    m = write_vtu(os.path.join(directory, f"mirror_{wall.name}.vtu"), mirror,
+                  {"id": pa["id"], "nearest_wall_over_dx": near})
+    return g, m
+
+
+class GhostParticles(WallModel):
+    """Fixed ghost particles whose state is mirrored from interpolation points (seed 001).
+
+    Parameters
+    ----------
+    interpolation : Interpolation or str
+        ``MLS(1)``, ``MLS(2)``, ``SFDI()``, ``Normalised()`` or
+        ``ImprovedShepard()`` (or their names ``mls1``, ``mls2``, ``sfdi``,
+        ``normalized``, ``shepard``); default the improved Shepard method.
+    slip : {"free", "noslip"}
+        Free slip reverses the normal velocity at the ghost, no slip both
+        components (relative to the wall's own velocity).
+    """
+
+    def __init__(self, interpolation="shepard", *, slip="free"):
+        if isinstance(interpolation, str):
+            try:
+                interpolation = INTERPOLATIONS[interpolation]()
+            except KeyError:
+                raise ParameterError(f"unknown interpolation {interpolation!r}; available: "
+                                     f"{', '.join(INTERPOLATIONS)}") from None
+        if not isinstance(interpolation, Interpolation):
+            raise ParameterError(f"interpolation must be a seawall interpolation, got {interpolation!r}")
+        if slip not in SLIP_MODES:
+            raise ParameterError(f"slip must be one of {', '.join(SLIP_MODES)}; got {slip!r}")
+        self.interpolation = interpolation
+        self.slip = slip
+        self.name = f"ghost-{interpolation.name}" + ("" if slip == "free" else "-noslip")
+        self._buf = None
+
+    def prepare(self, wall, fluid, physics):
+        pa = wall.particles
+        if "surface" not in pa or "normal" not in pa:
+            raise ParameterError(f"ghost wall {wall.name!r} needs surface points and normals "
+                                 "(build it with seawall.shapes.tank or polyline_wall)")
+        n = wall.n
+        pa["mirror"] = np.ascontiguousarray(mirror_points(pa["surface"], pa["x"]))
+        pa["p"] = np.full(n, physics.p_background)
+        pa["rho"] = np.full(n, physics.rho0)
+        pa["m"] = np.full(n, physics.rho0 * fluid.spacing ** wall.dim)
+        pa["v_ghost"] = pa["v"].copy()
+        pa["n_interp"] = np.zeros(n, dtype=np.int64)
+        self._buf = np.zeros((n, 1 + wall.dim))
+
+    def update(self, wall, fluid, ctx):
+        g = ctx.grid
+        pa = wall.particles
+        fp = fluid.particles
+        fields = np.empty((fp.n, 1 + wall.dim))
+        fields[:, 0] = fp["p"]
+        fields[:, 1:] = fp["v"]
+        vol = fp["m"] / fp["rho"]
+        kind, mu, lam, flag = self.interpolation.compiled()
+        if self._buf is None or self._buf.shape[0] != wall.n:
+            self._buf = np.zeros((wall.n, 1 + wall.dim))
+        interpolate_points(g.layout, kind, mu, lam, flag, pa["mirror"], fp["x"], fields, vol,
+                           ctx.fluid_cells.start, ctx.fluid_cells.order, g.lo, g.inv_cell, g.ncell, g.period,
+                           ctx.physics, self._buf, pa["n_interp"])
+        ghost_transfer(g.layout, pa["x"], pa["mirror"], pa["normal"], pa["v"], pa["a"], self._buf,
+                       pa["n_interp"], ctx.physics, self.slip == "noslip", pa["p"], pa["rho"], pa["v_ghost"])
+
+    def interact(self, fluid, wall, ctx, dv, drho):
+        g = ctx.grid
+        pa = wall.particles
+        fp = fluid.particles
+        ghost_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], pa["x"], pa["v_ghost"], pa["rho"],
+                     pa["p"], pa["m"], wall.cells.start, wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period,
+                     ctx.physics, dv, drho)
+
+    def describe(self):
+        return self.name
