@@ -85,7 +85,8 @@ class Case:
 
 
 #: keys of --set that belong to the wall model rather than the case
-BOUNDARY_OPTION_KEYS = {"wall_nu", "clip_negative", "order", "rectangular", "correction", "slip"}
+BOUNDARY_OPTION_KEYS = {"wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
+                         "alpha_wall", "wall_density"}
 
 
 def wall_layers(kernel, h, dx):
