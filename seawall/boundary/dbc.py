@@ -42,7 +42,8 @@ Choices where the seed is silent or ambiguous (see docs/idbc.md):
   particles and an aligned particle sees no jump.
 * Rectangles of tilted walls (tank corners) are clipped to the neighbour
   search, which covers at least 2h along every axis.
-* XSPH (eq. 10) runs over fluid neighbours only (the core's fluid loop).
+* XSPH (eq. 10) includes the wall particles (velocity v_b, kernel of the
+  pair), since DBC treats them as neighbours like any other.
 * The wall mass is the hydrodynamic mass rho0 dx_wall^d (as dummy.py).
 * The tensile term uses the uncorrected kernel ratio w(q)/w(dx/h), with q
   the (projected) distance over h.
@@ -177,7 +178,8 @@ def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order,
 
 @njit(cache=True, parallel=True, fastmath=True)
 def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, start, order, lo, inv_cell,
-                     ncell, period, prm, eos_order, rect, corr, half_a, half_b, alpha_wall, dv, drho, mu_max):
+                     ncell, period, prm, eos_order, rect, corr, half_a, half_b, alpha_wall, dv, drho, mu_max,
+                     xsph):
     """Add the wall's terms to the fluid's rates.
 
     continuity: drho_a += m_b (v_a - v_b) . grad_a W_ab                       (seed 000 eq. 8)
@@ -186,6 +188,8 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
     Pi_ab = -alpha_wall c_ab mu_ab / rho_ab for v_ab . r_ab < 0                (seed 000 eq. 6)
     f_ten = (R_a + R_b) (w(q)/w(dx/h))^4, R = eps P/rho^2                     (seed 000 eq. 20)
     mu_max[a] is raised to |mu_ab| for the time-step rule (seed 000 eq. 11).
+    XSPH:       xsph_a += eps m_b / rho_ab (v_b - v_a) W_ab  (seed 000 eq. 10: the wall particles
+                are neighbours like any other in DBC)
     """
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
@@ -198,6 +202,8 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
     c0 = prm.c0
     tensile = prm.tensile
     w_dx = prm.inv_w_dx * prm.sigma  # 1 / w(dx/h)
+    eps = prm.xsph
+    use_xsph = eps > 0.0
     for i in prange(n):
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -208,6 +214,7 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
         ra = (0.01 if pa > 0.0 else -0.2) * pr_a
         a0 = a1 = a2 = 0.0
         dr = 0.0
+        x0 = x1 = x2 = 0.0
         mumax = mu_max[i]
         for row in range(nrows):
             for part in range(2):
@@ -249,6 +256,16 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
                     a0 += sc * e0
                     a1 += sc * e1
                     a2 += sc * e2
+                    if use_xsph:
+                        wx = mb * w / (0.5 * (rhoi + rhob))
+                        x0 -= wx * (vi0 - vb0)
+                        x1 -= wx * (vi1 - vb1)
+                        x2 -= wx * (vi2 - vb2)
+        if use_xsph:
+            xsph[i, 0] += eps * x0
+            xsph[i, 1] += eps * x1
+            if dim == 3:
+                xsph[i, 2] += eps * x2
         dv[i, 0] += a0
         dv[i, 1] += a1
         if dim == 3:
@@ -440,7 +457,8 @@ class ImprovedDynamicBoundary(WallModel):
         dbc_fluid_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["c"], pa["x"], pa["v"], pa["normal"],
                          pa["tangent1"], pa["tangent2"], pa["rho"], pa["m"], wall.cells.start, wall.cells.order,
                          g.lo, g.inv_cell, g.ncell, g.period, ctx.physics, self.order, self.rectangular,
-                         self._corr, self._half[0], self._half[1], self.alpha_wall, dv, drho, fp["mu_max"])
+                         self._corr, self._half[0], self._half[1], self.alpha_wall, dv, drho, fp["mu_max"],
+                         fp["xsph"])
 
     def describe(self):
         parts = [f"order {self.order}", "rectangular" if self.rectangular else "circular"]

@@ -16,7 +16,8 @@ h = 1.3 dx (parameter ``h_factor``). Walls are a single row of particles
   the wall row, velocity (0, -2) m/s, gravity, alpha = 0.2 (fluid) and
   0 (wall), c = 50 m/s, CFL 0.05, dx = 0.2 mm; the wall row symmetric about
   the drop's axis (``shift=0``) or shifted by 0.3 dx (``shift=0.3``).
-  Probes: ``f_sym`` (eq. 29), ``through`` (particles that crossed the wall).
+  Probes: ``f_sym`` (eq. 29), ``through`` (particles that broke through the
+  wall: seen more than dx/2 below the row), ``lowest`` (lowest particle).
 * :func:`breakthrough_speed` raises the drop speed until particles cross
   the wall (sec. 4.2, last paragraph).
 """
@@ -85,22 +86,46 @@ class SymmetryProbe(_probes.Probe):
 
 
 class ThroughWallProbe(_probes.Probe):
-    """Number of fluid particles that crossed a horizontal wall row y = ``wall_y`` within |x| < ``half``.
+    """Number of fluid particles now on the far side of a horizontal wall row y = ``wall_y``.
 
-    Counts particles now below the row and particles removed from the domain
-    below it (the particles that broke through, seed 000 sec. 4.2).
+    Counts the particles more than ``depth`` below the row within |x| <
+    ``half`` (away from the row's ends) plus those that left the domain
+    there (seed 000 sec. 4.2: particles that escape the wall). A particle
+    that dips below the row and is pushed back counts only while it is
+    below; ``ids`` remembers every particle ever seen below.
     """
 
-    def __init__(self, name, wall_y, half):
+    def __init__(self, name, wall_y, half, depth):
         super().__init__(name)
         self.wall_y = float(wall_y)
+        self.half = float(half)
+        self.depth = float(depth)
+        self.ids = set()
+
+    def sample(self, sim):
+        fp = sim.fluid.particles
+        x = fp["x"]
+        below = (x[:, 1] < self.wall_y - self.depth) & (np.abs(x[:, 0]) < self.half)
+        self.ids.update(int(i) for i in fp["id"][below])
+        gone = 0
+        for rec in sim.escaped:
+            if rec[3] < self.wall_y - self.depth and abs(rec[2]) < self.half:
+                self.ids.add(int(rec[1]))
+                gone += 1
+        return float(np.count_nonzero(below) + gone)
+
+
+class LowestProbe(_probes.Probe):
+    """Lowest y of the fluid particles within |x| < ``half`` [m]."""
+
+    def __init__(self, name, half):
+        super().__init__(name)
         self.half = float(half)
 
     def sample(self, sim):
         x = sim.fluid.particles["x"]
-        now = int(np.count_nonzero((x[:, 1] < self.wall_y) & (np.abs(x[:, 0]) < self.half)))
-        gone = sum(1 for rec in sim.escaped if rec[3] < self.wall_y and abs(rec[2]) < self.half)
-        return float(now + gone)
+        m = np.abs(x[:, 0]) < self.half
+        return float(x[m, 1].min()) if m.any() else float("nan")
 
 
 def _seed_fluid(shape, *, c0, alpha, velocity):
@@ -200,7 +225,8 @@ def build_drop_impact(params, wall_model, threads):
                      integrator=Symplectic(cfl=params["cfl"], rule="monaghan-kos"), threads=threads,
                      domain=((-half - margin, -params["layers"] * dx - margin), (half + margin, top)),
                      density_band=(params["rho_min"], params["rho_max"]))
-    sim.add(SymmetryProbe("f_sym", 0.0, 0.0, dx), ThroughWallProbe("through", 0.0, half - 2.0 * h),
+    sim.add(SymmetryProbe("f_sym", 0.0, 0.0, dx), ThroughWallProbe("through", 0.0, half - 2.0 * h, 0.5 * dx),
+            LowestProbe("lowest", half - 2.0 * h),
             _probes.KineticEnergy())
     sim.reference = {"type": "drop-impact", "n": drop.n, "half_length": half}
     return sim
@@ -249,13 +275,18 @@ def drop_run(boundary="idbc", *, t_end=None, threads=None, **params):
         times, fs, through = res.times, res["f_sym"], res["through"]
     x = sim.fluid.particles["x"]
     return {"boundary": boundary, "speed": speed, "status": status, "times": times, "f_sym": fs,
-            "through": through, "max_through": float(np.max(through)) if through.size else 0.0,
+            "through": through, "final_through": float(through[-1]) if through.size else 0.0,
+            "dipped": len([p for p in sim.probes if p.name == "through"][0].ids),
             "n": int(sim.reference["n"]), "time": sim.time, "positions": x.copy(),
-            "min_y": float(x[:, 1].min()) if x.size else float("nan")}
+            "min_y": float(np.nanmin(res["lowest"])) if res["lowest"].size else float("nan")}
 
 
 def breakthrough_speed(boundary, speeds, *, threads=None, impact_window=6.0, **params):
-    """First drop speed in ``speeds`` at which particles cross the wall (or the run fails).
+    """First drop speed in ``speeds`` at which particles escape through the wall (or the run fails).
+
+    Escape: at the end of the run a particle is more than dx/2 below the
+    row, or left the domain below it (``through``); ``dipped`` counts the
+    particles that went below at some sample but came back.
 
     Each run lasts from the release to ``impact_window`` drop radii of travel
     after the impact at the initial speed (gravity off), long enough for the
@@ -270,9 +301,9 @@ def breakthrough_speed(boundary, speeds, *, threads=None, impact_window=6.0, **p
         t_end = (H - R + impact_window * R) / v
         out = drop_run(boundary, t_end=t_end, threads=threads, speed=v, gravity=False,
                        rho_min=0.05, rho_max=20.0, **params)
-        failed = out["max_through"] > 0 or out["status"] != "completed"
-        rows.append({"speed": v, "through": out["max_through"], "status": out["status"], "n": out["n"],
-                     "min_y": out["min_y"]})
+        failed = out["final_through"] > 0 or out["status"] != "completed"
+        rows.append({"speed": v, "through": out["final_through"], "dipped": out["dipped"], "status": out["status"],
+                     "n": out["n"], "lowest": out["min_y"]})
         if failed and first is None:
             first = v
             break
