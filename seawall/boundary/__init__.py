@@ -5,8 +5,10 @@ can build any model by name.
 """
 
 from .base import EvaluationContext, WallModel, WallSystem
+from .dbc import DynamicBoundary, ImprovedDynamicBoundary
 from .dummy import DummyParticles
 from .registry import BOUNDARIES, boundary_by_name
 
-__all__ = ["WallModel", "WallSystem", "EvaluationContext", "DummyParticles", "BOUNDARIES",
+__all__ = ["WallModel", "WallSystem", "EvaluationContext", "DummyParticles", "DynamicBoundary",
+           "ImprovedDynamicBoundary", "BOUNDARIES",
            "boundary_by_name"]

@@ -5,6 +5,7 @@ A factory takes the options given with ``--set KEY=VALUE`` that it knows
 """
 
 from ..errors import ParameterError
+from .dbc import DynamicBoundary, ImprovedDynamicBoundary
 from .dummy import DummyParticles
 from .ghost import GhostParticles
 from .interpolation import MLS, SFDI, ImprovedShepard, Normalised
@@ -44,6 +45,26 @@ def _flag(value):
     raise ParameterError(f"expected a true/false value, got {value!r}")
 
 
+def _dynamic(cls):
+    def factory(options):
+        kwargs = {}
+        if "order" in options:
+            kwargs["order"] = options.pop("order")
+        if "rectangular" in options:
+            kwargs["rectangular"] = _flag(options.pop("rectangular"))
+        if "correction" in options:
+            kwargs["correction"] = _flag(options.pop("correction"))
+        if "wall_density" in options:
+            kwargs["wall_density"] = str(options.pop("wall_density")).strip()
+        if "alpha_wall" in options:
+            try:
+                kwargs["alpha_wall"] = float(options.pop("alpha_wall"))
+            except ValueError:
+                raise ParameterError("alpha_wall must be a number") from None
+        return cls(**kwargs)
+    return factory
+
+
 #: name -> (factory, one-line description)
 BOUNDARIES = {
     "adami": (_dummy("adami"), "dummy particles, Adami et al. (2012) pressure extrapolation, free slip"),
@@ -62,6 +83,11 @@ BOUNDARIES = {
                          "fixed ghost particles, normalised (Shepard kernel) interpolation (seed 001); slip=free|noslip"),
     "ghost-shepard": (_ghost(_shepard),
                       "fixed ghost particles, improved Shepard interpolation (seed 001); slip, shepard_mu, shepard_lambda"),
+    "dbc": (_dynamic(DynamicBoundary),
+            "dynamic boundary particles, Crespo et al. (2007): continuity + linear EOS (seed 000 eq. 12)"),
+    "idbc": (_dynamic(ImprovedDynamicBoundary),
+             "improved DBC, Li et al. (seed 000): order-7 EOS, rectangular support, alpha_DB "
+             "(--set order=1..7 rectangular=0/1 correction=0/1 alpha_wall=...)"),
 }
 
 

@@ -86,7 +86,8 @@ class Case:
 
 #: keys of --set that belong to the wall model rather than the case
 BOUNDARY_OPTION_KEYS = {"wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
-                        "shepard_mu", "shepard_lambda", "sfdi_diagonal"}
+                        "shepard_mu", "shepard_lambda", "sfdi_diagonal",
+                        "alpha_wall", "wall_density"}
 
 
 def wall_layers(kernel, h, dx):
