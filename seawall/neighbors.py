@@ -111,12 +111,19 @@ class CellGrid:
 class CellList:
     """Result of a counting sort: particles ``order[start[c]:start[c+1]]`` are in cell c."""
 
-    __slots__ = ("start", "order", "cell")
+    __slots__ = ("start", "order", "cell", "_reach")
 
     def __init__(self, start, order, cell):
         self.start = start
         self.order = order
         self.cell = cell
+        self._reach = None
+
+    def reach_mask(self, grid):
+        """Cells from which some particle of this list is within the search radius (cached)."""
+        if self._reach is None:
+            self._reach = cells_within_reach(self.start, grid.ncell, grid.period)
+        return self._reach
 
 
 def layout_tag(dim, periodic):
@@ -258,6 +265,44 @@ def build_cell_list(x, lo, inv_cell, ncell):
         order[cursor[c]] = i
         cursor[c] += 1
     return start, order, cell
+
+
+@njit(cache=True)
+def cells_within_reach(start, ncell, period):
+    """Mask of the cells whose 5^d neighbourhood (see neighbour_range) holds any particle.
+
+    Used to skip, in a fluid-wall loop, the fluid particles that cannot have
+    a wall neighbour: most of them, in a large tank.
+    """
+    nx, ny, nz = ncell[0], ncell[1], ncell[2]
+    reach_z = 2 if nz > 1 else 0
+    mask = np.zeros(nx * ny * nz, dtype=np.uint8)
+    for cz in range(nz):
+        for cy in range(ny):
+            for cx in range(nx):
+                c = cx + nx * (cy + ny * cz)
+                if start[c + 1] == start[c]:
+                    continue
+                for oz in range(-reach_z, reach_z + 1):
+                    z = cz + oz
+                    if z < 0 or z >= nz:
+                        if period[2] == 0.0:
+                            continue
+                        z = (z + nz) % nz
+                    for oy in range(-2, 3):
+                        y = cy + oy
+                        if y < 0 or y >= ny:
+                            if period[1] == 0.0:
+                                continue
+                            y = (y + ny) % ny
+                        for ox in range(-2, 3):
+                            x = cx + ox
+                            if x < 0 or x >= nx:
+                                if period[0] == 0.0:
+                                    continue
+                                x = (x + nx) % nx
+                            mask[x + nx * (y + ny * z)] = 1
+    return mask
 
 
 @njit(cache=True, parallel=True)

@@ -125,7 +125,7 @@ def wall_kernel(kind, rect, dim, d0, d1, d2, nb0, nb1, nb2, ta0, ta1, ta2, tb0, 
     return s, sigma * s, sigma * inv_h * kernel_shape_dq(kind, q), d0 * inv_r, d1 * inv_r, d2 * inv_r, r, r2
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order, lo, inv_cell, ncell, period,
                   prm, rect, corr, half_a, half_b, drho_w, sum_w, drift_w):
     """Continuity rate of every wall particle (seed 000 eq. 8, with eq. 26 when ``rect``).
@@ -176,7 +176,7 @@ def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order,
         drift_w[b] = dr
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, start, order, lo, inv_cell,
                      ncell, period, prm, eos_order, rect, corr, half_a, half_b, alpha_wall, dv, drho, mu_max,
                      xsph):
@@ -274,7 +274,7 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
         mu_max[i] = mumax
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def wall_pressures(rho, rho0, c0, order, p_background, p):
     for b in prange(rho.shape[0]):
         p[b] = expanded_pressure(rho[b], rho0, c0, order, p_background)

@@ -49,7 +49,7 @@ SLIP_MODES = ("free", "noslip")
 DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring")
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv_cell, ncell, period, prm,
                      noslip, clip_negative, pw, rhow, vw_visc):
     """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle."""
@@ -107,7 +107,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv
                     vw_visc[b, 2] = vb2
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, order_f, lo, inv_cell, ncell,
                            period, prm, clip_negative, rhow, pw):
     """rho_b = sum_j m_j W_bj over wall (self included) and fluid neighbours; p_b = EOS(rho_b).
@@ -155,7 +155,7 @@ def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, or
         pw[b] = pb
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv_cell, ncell, period, prm,
                          drhow, pw):
     """drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf and p_b = EOS(rho_b).
@@ -192,8 +192,8 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
         pw[b] = eos_pressure(prm.eos, rhow[b], prm.rho0, prm.c0, prm.gamma, prm.p_background)
 
 
-@njit(cache=True, parallel=True, fastmath=True)
-def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, start, order, lo, inv_cell,
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, start, order, reach, lo, inv_cell,
                       ncell, period, prm, mirror, wall_nu, dv, drho):
     """Add the dummy wall's terms to the fluid's rates.
 
@@ -203,6 +203,8 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
                  with p_b = p_i, rho_b = rho0 when ``mirror`` (seed 004, PressureMirroring)
     no slip:     dv_i += m_b nu (rho_i + rho_b)/(rho_i rho_b) (v_i - v_w) (r_ib . grad W)/(r^2 + eta^2)
                  when wall_nu > 0 (seed 003 eq. 9 form with the Adami wall velocity v_w)
+
+    ``reach`` flags the cells with a wall particle in reach: the others are skipped.
     """
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
@@ -214,6 +216,8 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
     for i in prange(nf):
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
+            continue
         vi0, vi1, vi2 = point_of(vf, i, dim)
         rhoi = rhof[i]
         pr_i = pf[i] / (rhoi * rhoi)
@@ -346,7 +350,8 @@ class DummyParticles(WallModel):
         pa = wall.particles
         fp = fluid.particles
         dummy_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], pa["x"], pa["v"], pa["v_visc"],
-                          pa["rho"], pa["p"], pa["m"], wall.cells.start, wall.cells.order, g.lo,
+                          pa["rho"], pa["p"], pa["m"], wall.cells.start, wall.cells.order,
+                          wall.cells.reach_mask(g), g.lo,
                           g.inv_cell, g.ncell, g.period, ctx.physics, self.density == "mirroring",
                           self._wall_nu, dv, drho)
 

@@ -61,7 +61,7 @@ from .interpolation import (INTERPOLATIONS, Interpolation, interpolate_points)
 SLIP_MODES = ("free", "noslip")
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm, noslip, pg, rhog, vg):
     """Laws of mirror (seed 001 sec. 2.2): ghost p, rho, v from the values interpolated at the mirror points.
 
@@ -106,7 +106,7 @@ def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm,
                 vg[b, 2] = vw2 + u2 - un * n2
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, order, lo, inv_cell, ncell, period,
                  prm, dv, drho):
     """Add the ghost particles' terms to the fluid's rates (gather over ghost cells; formulas in the module doc)."""

@@ -493,7 +493,7 @@ def sfdi_point(layout, diagonal, limit, p0, p1, p2, xf, fields, vol, start, orde
     return cnt
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def interpolate_points(layout, kind, mu, lam, flag, points, xf, fields, vol, start, order, lo, inv_cell, ncell,
                        period, prm, out, count):
     """Interpolate every column of ``fields`` at every row of ``points`` (one thread per point)."""

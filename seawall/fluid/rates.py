@@ -34,7 +34,7 @@ from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, ta
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
     """Pressure and sound speed of every particle from its density.
 
@@ -50,7 +50,7 @@ def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
         volume[i] = m[i] / r
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncell, period, prm, same, rho):
     """Density by summation, rho_i = sum_j m_j W_ij (seed 000, eq. 7).
 
@@ -118,7 +118,7 @@ def store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, 
             grad[i, 2] = g2
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_cell, ncell, period, prm, grad):
     """<grad rho>_i^L of seed 003 eq. 14-15 (Randles & Libersky renormalisation).
 
@@ -170,7 +170,7 @@ def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_
         store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start, order, lo, inv_cell, ncell, period, prm,
                 dv, drho, xsph, mu_max, grad_rho_next):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
@@ -215,7 +215,8 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
         a0 = a1 = a2 = 0.0
         dr = 0.0
         x0 = x1 = x2 = 0.0
-        mumax = 0.0
+        mu_num = 0.0
+        mu_den = 1.0
         a00 = a01 = a02 = a11 = a12 = a22 = 0.0
         g0 = g1 = g2 = 0.0
         for row in range(nrows):
@@ -252,11 +253,15 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                         wr = prm.sigma * kernel_shape(prm.kernel, qq) * prm.inv_w_dx
                         wr2 = wr * wr
                         coef += (ri + rj) * wr2 * wr2
-                    mu = h * vr / (r2 + eta2)
-                    amu = abs(mu)
-                    if amu > mumax:
-                        mumax = amu
+                    # max_j |vr|/(r^2 + eta^2) for the time step, compared as fractions
+                    # (a/b > c/d <=> a d > c b) so that no pair pays a division for it
+                    den = r2 + eta2
+                    avr = abs(vr)
+                    if avr * mu_den > mu_num * den:
+                        mu_num = avr
+                        mu_den = den
                     if alpha > 0.0 and vr < 0.0:
+                        mu = h * vr / den
                         rho_ab = 0.5 * (rhoi + rhoj)
                         c_ab = 0.5 * (ci + c[j])
                         coef += (-alpha * c_ab * mu + beta * mu * mu) / rho_ab
@@ -305,6 +310,6 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
         xsph[i, 1] = eps * x1
         if dim == 3:
             xsph[i, 2] = eps * x2
-        mu_max[i] = mumax
+        mu_max[i] = h * mu_num / mu_den
         if lagged:
             store_renormalised_gradient(grad_rho_next, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
