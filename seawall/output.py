@@ -13,7 +13,8 @@ class VTK:
     Files: ``DIR/fluid.pvd`` + ``DIR/fluid_00000.vtu``...; each wall as
     ``DIR/wall_<name>.pvd`` (written once if the wall does not move).
     Point data: velocity, pressure, density, mass, id; walls also pressure,
-    density and normals.
+    density, normals and mirror points (2 x surface point - position), so the
+    geometry of ghost-particle walls can be inspected in ParaView.
     """
 
     def __init__(self, directory, *, every=0.02, walls=True):
@@ -56,6 +57,9 @@ class VTK:
                     data["pressure" if name == "p" else "density"] = pa[name]
             if "normal" in pa:
                 data["normal"] = pa["normal"]
+            if "surface" in pa:
+                # where each wall particle's state is read by mirror-point (ghost) models
+                data["mirror_point"] = 2.0 * pa["surface"] - pa["x"]
             series.write(sim.time, pa["x"], data)
         while self.next_time <= sim.time + 1e-12:
             self.next_time += self.every

@@ -43,6 +43,12 @@ def test_run_writes_contract_files(tmp_path, capsys):
     assert t[0] == 0.0 and t[-1] == pytest.approx(0.02)
     assert np.all(np.isfinite(cols["P0"]))
     assert (out_dir / "fluid.pvd").exists() and (out_dir / "wall_tank.pvd").exists()
+    from seawall.io import read_vtu
+    wx, wdata = read_vtu(str(out_dir / "wall_tank_00000.vtu"))
+    assert {"normal", "mirror_point", "pressure"} <= set(wdata)
+    # every mirror point lies inside the tank (0 < x < 0.5, y > 0)
+    mp = wdata["mirror_point"]
+    assert mp[:, 0].min() > 0 and mp[:, 0].max() < 0.5 and mp[:, 1].min() > 0
     assert "M particle-steps/s" in out
 
 
