@@ -16,7 +16,6 @@ Usage: python benchmarks/ghost_interpolation_cost.py [--dx 0.02 0.01 0.0071] [--
 import argparse
 import time
 
-import numpy as np
 
 from seawall.boundary.base import EvaluationContext
 from seawall.cases import build

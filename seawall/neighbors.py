@@ -235,6 +235,16 @@ def minimum_image(d, period_k):
 
 
 @njit(cache=True, inline="always")
+def separation(p0, p1, p2, x, j, dim, periodic, period):
+    """Components of (p - x_j), shortest periodic image when ``periodic``, and its squared length."""
+    q0, q1, q2 = point_of(x, j, dim)
+    d0 = minimum_image(p0 - q0, period[0]) if periodic else p0 - q0
+    d1 = minimum_image(p1 - q1, period[1]) if periodic else p1 - q1
+    d2 = minimum_image(p2 - q2, period[2]) if periodic else p2 - q2
+    return d0, d1, d2, d0 * d0 + d1 * d1 + d2 * d2
+
+
+@njit(cache=True, inline="always")
 def point_of(x, i, dim):
     """Position of particle i as three scalars (z = 0 in 2D)."""
     if dim == 3:

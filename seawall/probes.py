@@ -19,7 +19,7 @@ from numba import njit
 
 from .errors import ParameterError
 from .kernels import kernel_shape
-from .neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from .neighbors import cell_index, neighbour_range, tag_dim, tag_periodic, separation
 
 
 @njit(cache=True)
@@ -50,11 +50,7 @@ def interpolate_pressure(layout, points, accel, xf, pf, rhof, start, order, lo, 
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 for kk in range(ka, kb):
                     f = order[kk]
-                    q0, q1, q2 = point_of(xf, f, dim)
-                    d0 = minimum_image(p0 - q0, period[0]) if periodic else p0 - q0
-                    d1 = minimum_image(p1 - q1, period[1]) if periodic else p1 - q1
-                    d2 = minimum_image(p2 - q2, period[2]) if periodic else p2 - q2
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
                     if r2 >= prm.support2:
                         continue
                     w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)

@@ -42,7 +42,7 @@ from numba import njit, prange
 from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative
 from ..kernels import kernel_gradient_factor, kernel_shape
-from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .base import WallModel
 
 SLIP_MODES = ("free", "noslip")
@@ -73,11 +73,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 for k in range(ka, kb):
                     f = order[k]
-                    q0, q1, q2 = point_of(xf, f, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
                     if r2 >= prm.support2:
                         continue
                     w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
@@ -139,11 +135,7 @@ def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, or
                         if which == 0:
                             q0, q1, q2 = point_of(xw, j, dim)
                         else:
-                            q0, q1, q2 = point_of(xf, j, dim)
-                        d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                        d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                        d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                        r2 = d0 * d0 + d1 * d1 + d2 * d2
+                            d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
                         if r2 >= prm.support2:
                             continue
                         mj = mw[j] if which == 0 else mf[j]
@@ -178,11 +170,7 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 for k in range(ka, kb):
                     f = order[k]
-                    q0, q1, q2 = point_of(xf, f, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     fac = gradient_scale * kernel_gradient_factor(prm.kernel, np.sqrt(r2) * inv_h)
@@ -228,11 +216,7 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 for k in range(ka, kb):
                     b = order[k]
-                    q0, q1, q2 = point_of(xw, b, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xw, b, dim, periodic, period)
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)

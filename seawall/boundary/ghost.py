@@ -54,7 +54,7 @@ from numba import njit, prange
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError
 from ..kernels import kernel_shape_dq
-from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .base import WallModel
 from .interpolation import (INTERPOLATIONS, Interpolation, interpolate_points)
 
@@ -135,11 +135,7 @@ def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, orde
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 for k in range(ka, kb):
                     b = order[k]
-                    q0, q1, q2 = point_of(xg, b, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xg, b, dim, periodic, period)
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)

@@ -60,7 +60,7 @@ from numba import njit, prange
 
 from ..errors import ParameterError, require_positive
 from ..kernels import kernel_shape
-from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic, separation
 
 MLS_LINEAR = 0
 MLS_QUADRATIC = 1
@@ -164,11 +164,7 @@ def normalised_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo, inv_
             ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
             for kk in range(ka, kb):
                 j = order[kk]
-                q0, q1, q2 = point_of(xf, j, dim)
-                d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                r2 = d0 * d0 + d1 * d1 + d2 * d2
+                d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
                 if r2 >= prm.support2:
                     continue
                 w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h) * vol[j]
@@ -210,11 +206,7 @@ def improved_shepard_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo
             ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
             for kk in range(ka, kb):
                 j = order[kk]
-                q0, q1, q2 = point_of(xf, j, dim)
-                d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                r2 = d0 * d0 + d1 * d1 + d2 * d2
+                d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
                 if r2 >= prm.support2:
                     continue
                 q2 = r2 * inv_r2
@@ -274,11 +266,7 @@ def mls_point(layout, quadratic, limit, p0, p1, p2, xf, fields, vol, start, orde
             ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
             for kk in range(ka, kb):
                 j = order[kk]
-                q0, q1, q2 = point_of(xf, j, dim)
-                d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                r2 = d0 * d0 + d1 * d1 + d2 * d2
+                d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
                 if r2 >= prm.support2:
                     continue
                 w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h) * vol[j]
@@ -381,11 +369,7 @@ def sfdi_point(layout, diagonal, limit, p0, p1, p2, xf, fields, vol, start, orde
             ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
             for kk in range(ka, kb):
                 j = order[kk]
-                q0, q1, q2 = point_of(xf, j, dim)
-                d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                r2 = d0 * d0 + d1 * d1 + d2 * d2
+                d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
                 if r2 >= prm.support2:
                     continue
                 w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)

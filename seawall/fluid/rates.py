@@ -30,7 +30,7 @@ from numba import njit, prange
 
 from ..eos import eos_pressure, eos_sound_speed
 from ..kernels import kernel_gradient_factor, kernel_shape
-from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
+from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
 
@@ -75,11 +75,7 @@ def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncel
                     j = order_b[k]
                     if same and j == i:
                         continue
-                    q0, q1, q2 = point_of(xb, j, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xb, j, dim, periodic, period)
                     if r2 < prm.support2:
                         acc += mb[j] * prm.sigma * kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
         rho[i] = acc
@@ -145,11 +141,7 @@ def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_
                     j = order[k]
                     if j == i:
                         continue
-                    q0, q1, q2 = point_of(x, j, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, x, j, dim, periodic, period)
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)
@@ -226,11 +218,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                     j = order[k]
                     if j == i:
                         continue
-                    q0, q1, q2 = point_of(x, j, dim)
-                    d0 = (minimum_image(p0 - q0, period[0]) if periodic else p0 - q0)
-                    d1 = (minimum_image(p1 - q1, period[1]) if periodic else p1 - q1)
-                    d2 = (minimum_image(p2 - q2, period[2]) if periodic else p2 - q2)
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+                    d0, d1, d2, r2 = separation(p0, p1, p2, x, j, dim, periodic, period)
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from ..eos import EquationOfState, Tait
+from ..eos import EquationOfState
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..particles import ParticleArrays
 from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi

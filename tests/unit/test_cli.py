@@ -1,7 +1,6 @@
 """The command line: contract files, JSON line, one-line errors without traceback."""
 
 import json
-import os
 import subprocess
 import sys
 
