@@ -1,4 +1,4 @@
-"""Command line: ``seawall cases | boundaries | run | plot | bench``.
+"""Command line: ``seawall cases | boundaries | run | compare | plot | bench``.
 
 The output files of ``run`` (probes.csv, summary.json, the VTU/PVD series)
 and the JSON line of ``bench`` are a contract other tools rely on: columns
@@ -90,6 +90,15 @@ def build_parser():
     run.add_argument("--restart", metavar="CHECKPOINT", help="continue from a checkpoint of the same case")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    comp = sub.add_parser("compare", help="run a case with several wall models; write compare.md/.csv and plots")
+    comp.add_argument("case")
+    comp.add_argument("--boundaries", required=True, help="comma-separated wall models, e.g. adami,dbc,ghost-shepard")
+    comp.add_argument("--dx", type=_positive("--dx"))
+    comp.add_argument("--t-end", type=_positive("--t-end"))
+    comp.add_argument("--out", help="output directory (default runs/compare-CASE)")
+    comp.add_argument("--jobs", type=_positive_int("--jobs"), help="models run at once (default: cores)")
+    comp.add_argument("--set", action="append", metavar="KEY=VALUE", help="case parameter, given to every model")
 
     plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
     plot.add_argument("run_dir")
@@ -230,6 +239,18 @@ def _print_summary(s):
         print(f"  probe {name:<14} final {p['final']:12.5g}   min {p['min']:12.5g}   max {p['max']:12.5g}")
 
 
+def cmd_compare(args):
+    from .compare import compare
+
+    out = args.out or os.path.join("runs", f"compare-{args.case}")
+    boundaries = [b.strip() for b in args.boundaries.split(",") if b.strip()]
+    print(f"seawall compare {args.case}: {', '.join(boundaries)} -> {out}", flush=True)
+    rows = compare(args.case, boundaries, out=out, dx=args.dx, t_end=args.t_end, params=_parse_sets(args.set),
+                   jobs=args.jobs)
+    print(open(os.path.join(out, "compare.md")).read())
+    return 0 if all(r["status"] == "completed" for r in rows) else EXIT_UNSTABLE
+
+
 def cmd_plot(args):
     from . import plots
     from .errors import ParameterError
@@ -286,7 +307,7 @@ def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
-                "plot": cmd_plot}
+                "plot": cmd_plot, "compare": cmd_compare}
     try:
         return handlers[args.command](args)
     except ParameterError as exc:

@@ -1,0 +1,304 @@
+"""Run one case with several wall models and compare them in numbers and plots.
+
+``seawall compare CASE --boundaries A,B,C`` runs the case once per model
+(in parallel processes where cores allow), keeps each run's probes.csv and
+summary.json in ``DIR/<model>/``, and writes ``DIR/compare.csv``,
+``DIR/compare.md`` and one overlay plot per probe (``DIR/probe_<name>.png``).
+
+Metrics, per model (a cell is "n/a" only where the case has nothing to measure):
+
+* ``escaped`` -- fluid particles removed for leaving the domain;
+* ``min_wall_distance_dx`` -- smallest signed distance of any fluid particle to
+  the wall surface over the run, in particle spacings (the wall particle
+  nearest to the fluid particle gives the surface point s and normal n, and
+  the distance is (x - s) . n; negative = inside the wall);
+* ``wall_pressure_error`` -- mean over the wall probes of |mean(p) - p_ref| /
+  (rho0 g H) over the second half of the run, for cases with a reference
+  (hydrostatic: p_ref = rho0 g (H - y));
+* ``pressure_noise`` -- mean over the wall probes of the RMS of (p - its running
+  mean over 0.05 s), divided by rho0 g H (or by the largest |p| for cases
+  without a hydrostatic scale): the high-frequency part of the wall pressure;
+* ``f_sym`` -- the final value of the case's ``f_sym`` probe (seed 000 eq. 29),
+  where the case is symmetric;
+* ``energy_drift`` -- relative change of the kinetic energy between the first
+  and the last sample, for cases that conserve it (``particle-in-box``);
+* ``particle_steps_per_s`` and ``relative_time`` (time stepping only, without
+  start-up and compilation, relative to the fastest model).
+"""
+
+import csv
+import json
+import math
+import os
+from concurrent.futures import ProcessPoolExecutor
+import multiprocessing
+
+import numpy as np
+from numba import njit, prange
+
+from .errors import ParameterError
+from .probes import Probe, WallPressure
+
+ENERGY_CONSERVING_CASES = {"particle-in-box"}
+COLUMNS = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
+           "f_sym", "energy_drift", "particle_steps_per_s", "wall_time_s", "relative_time", "steps"]
+
+
+@njit(cache=True, parallel=True)
+def _signed_wall_distance(xf, xw, nw, sw, start, order, lo, inv_cell, ncell, period, radius2, out):
+    """Per fluid particle: (x - s_b) . n_b for its nearest wall particle b within the radius, else +inf."""
+    from_dim = xf.shape[1]
+    for i in prange(xf.shape[0]):
+        best = radius2
+        b_best = -1
+        p = np.zeros(3)
+        for k in range(from_dim):
+            p[k] = xf[i, k]
+        c = np.zeros(3, dtype=np.int64)
+        for k in range(3):
+            c[k] = min(max(int((p[k] - lo[k]) * inv_cell[k]), 0), ncell[k] - 1)
+        zr = 2 if from_dim == 3 else 0
+        for oz in range(-zr, zr + 1):
+            for oy in range(-2, 3):
+                for ox in range(-2, 3):
+                    cx = c[0] + ox
+                    cy = c[1] + oy
+                    cz = c[2] + oz
+                    if cx < 0 or cy < 0 or cz < 0 or cx >= ncell[0] or cy >= ncell[1] or cz >= ncell[2]:
+                        continue
+                    cell = cx + ncell[0] * (cy + ncell[1] * cz)
+                    for kk in range(start[cell], start[cell + 1]):
+                        b = order[kk]
+                        r2 = 0.0
+                        for k in range(from_dim):
+                            d = p[k] - xw[b, k]
+                            r2 += d * d
+                        if r2 < best:
+                            best = r2
+                            b_best = b
+        if b_best < 0:
+            out[i] = np.inf
+        else:
+            s = 0.0
+            for k in range(from_dim):
+                s += (p[k] - sw[b_best, k]) * nw[b_best, k]
+            out[i] = s
+
+
+class MinWallDistance(Probe):
+    """Probe: smallest signed distance of a fluid particle to any wall surface, in particle spacings."""
+
+    def __init__(self, name="min_wall_distance_dx"):
+        super().__init__(name)
+
+    def sample(self, sim):
+        fp = sim.fluid.particles
+        best = math.inf
+        g = sim.grid
+        for wall in sim.walls:
+            pa = wall.particles
+            if "normal" not in pa or "surface" not in pa or fp.n == 0:
+                continue
+            out = np.empty(fp.n)
+            _signed_wall_distance(fp["x"], pa["x"], pa["normal"], pa["surface"], wall.cells.start,
+                                  wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, sim.physics.support2, out)
+            best = min(best, float(out.min()))
+        return best / sim.fluid.spacing if math.isfinite(best) else float("nan")
+
+
+def run_one(case_name, boundary, dx, t_end, params, out_dir, threads):
+    """Run one model (in a worker process); return its summary dict with metrics."""
+    import time
+
+    from .cases import case_by_name
+    from .errors import InstabilityError
+
+    case = case_by_name(case_name)
+    kwargs = dict(params)
+    if dx is not None:
+        kwargs["dx"] = dx
+    sim = case.build(boundary=boundary, threads=threads, **kwargs)
+    sim.add(MinWallDistance(), every=case.probe_every)
+    run_dir = os.path.join(out_dir, boundary)
+    os.makedirs(run_dir, exist_ok=True)
+    t_end = t_end or case.t_end
+    started = time.perf_counter()
+    status = "completed"
+    try:
+        result = sim.run(t_end, progress=False, probe_csv=os.path.join(run_dir, "probes.csv"))
+        summary = result.summary
+        times, probes = result.times, result.probes
+    except InstabilityError as exc:
+        status = f"unstable at t = {exc.time:.4g} s"
+        summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
+                              steps=sim.step, startup=0.0)
+        res = sim.result(summary)
+        times, probes = res.times, res.probes
+    summary = {**summary, "status": status, "case": case_name, "boundary": boundary}
+    summary["metrics"] = metrics(case_name, sim, times, probes, summary)
+    with open(os.path.join(run_dir, "summary.json"), "w") as fh:
+        json.dump(_plain(summary), fh, indent=2)
+    return _plain({"summary": summary, "times": times.tolist(), "probes": {k: v.tolist() for k, v in probes.items()}})
+
+
+def metrics(case_name, sim, times, probes, summary):
+    """The comparison metrics of one run (see module docstring)."""
+    m = {"escaped": summary.get("escaped_particles"), "status": summary.get("status")}
+    dist = probes.get("min_wall_distance_dx")
+    m["min_wall_distance_dx"] = float(np.nanmin(dist)) if dist is not None and np.isfinite(dist).any() else None
+    wall_probes = [name for name, p in zip(probes, sim.probes) if isinstance(p, WallPressure)]
+    ref = getattr(sim, "reference", None) or {}
+    if ref.get("type") == "hydrostatic":
+        scale = ref["rho0"] * ref["g"] * ref["depth"]
+    elif wall_probes:
+        peak = max(float(np.nanmax(np.abs(probes[n]))) for n in wall_probes)
+        scale = peak if peak > 0 else None
+    else:
+        scale = None
+    m["wall_pressure_error"] = None
+    if ref.get("type") == "hydrostatic" and len(times):
+        late = times >= 0.5 * times[-1]
+        errs = []
+        for name, p in zip(probes, sim.probes):
+            if name in wall_probes:
+                exact = ref["rho0"] * ref["g"] * (ref["depth"] - p.point[-1])
+                errs.append(abs(float(np.mean(probes[name][late])) - exact) / scale)
+        m["wall_pressure_error"] = float(np.mean(errs)) if errs else None
+    m["pressure_noise"] = None
+    if wall_probes and scale and len(times) > 4:
+        dt = float(np.median(np.diff(times)))
+        window = max(3, int(round(0.05 / dt)) | 1)
+        noise = []
+        for name in wall_probes:
+            p = np.asarray(probes[name], dtype=float)
+            if p.size <= window:
+                continue
+            running = np.convolve(p, np.ones(window) / window, mode="same")
+            half = window // 2
+            core = slice(half, p.size - half)
+            noise.append(float(np.sqrt(np.mean((p[core] - running[core]) ** 2))) / scale)
+        m["pressure_noise"] = float(np.mean(noise)) if noise else None
+    m["f_sym"] = float(probes["f_sym"][-1]) if "f_sym" in probes and len(probes["f_sym"]) else None
+    m["energy_drift"] = None
+    if case_name in ENERGY_CONSERVING_CASES and "kinetic_energy" in probes and len(probes["kinetic_energy"]) > 1:
+        ke = probes["kinetic_energy"]
+        m["energy_drift"] = float((ke[-1] - ke[0]) / ke[0]) if ke[0] else None
+    m["particle_steps_per_s"] = summary.get("particle_steps_per_s")
+    # time stepping only: start-up (compilation in a fresh worker) would swamp the comparison
+    m["wall_time_s"] = summary.get("wall_time_s", 0.0) - summary.get("startup_s", 0.0)
+    m["steps"] = summary.get("steps")
+    return m
+
+
+def _plain(obj):
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _plain(obj.tolist())
+    if hasattr(obj, "item"):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, jobs=None):
+    """Run ``case_name`` once per wall model in ``boundaries``; write the report; return the rows."""
+    from .boundary.registry import BOUNDARIES
+    from .cases import case_by_name
+
+    case_by_name(case_name)
+    if not boundaries:
+        raise ParameterError("--boundaries needs at least one wall model")
+    unknown = [b for b in boundaries if b not in BOUNDARIES]
+    if unknown:
+        raise ParameterError(f"unknown boundary {unknown[0]!r}; available: {', '.join(BOUNDARIES)}")
+    if len(set(boundaries)) != len(boundaries):
+        raise ParameterError("--boundaries lists a model twice")
+    os.makedirs(out, exist_ok=True)
+    cores = os.cpu_count() or 1
+    jobs = max(1, min(jobs or cores, len(boundaries), cores))
+    threads = max(1, cores // jobs)
+    params = dict(params or {})
+    if jobs == 1:
+        results = [run_one(case_name, b, dx, t_end, params, out, threads) for b in boundaries]
+    else:
+        ctx = multiprocessing.get_context("spawn")  # fresh numba thread pools per worker
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+            futures = [pool.submit(run_one, case_name, b, dx, t_end, params, out, threads) for b in boundaries]
+            results = [f.result() for f in futures]
+    rows = []
+    fastest = min((r["summary"]["metrics"]["wall_time_s"] or math.inf) for r in results)
+    for b, r in zip(boundaries, results):
+        m = r["summary"]["metrics"]
+        row = {"boundary": b, **m}
+        row["relative_time"] = (m["wall_time_s"] / fastest) if m["wall_time_s"] and math.isfinite(fastest) else None
+        rows.append(row)
+    _write_csv(os.path.join(out, "compare.csv"), rows)
+    _write_markdown(os.path.join(out, "compare.md"), case_name, rows, dx, t_end)
+    _plot_probes(out, boundaries, results)
+    return rows
+
+
+def _fmt(value, kind):
+    if value is None:
+        return "n/a"
+    if kind == "pct":
+        return f"{100 * value:.2f} %"
+    if kind == "int":
+        return str(int(value))
+    if kind == "M":
+        return f"{value / 1e6:.3f} M"
+    if isinstance(value, float):
+        return f"{value:.3g}"
+    return str(value)
+
+
+def _write_csv(path, rows):
+    with open(path, "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(COLUMNS)
+        for row in rows:
+            writer.writerow(["" if row.get(c) is None else row.get(c) for c in COLUMNS])
+
+
+def _write_markdown(path, case_name, rows, dx, t_end):
+    header = ["model", "status", "escaped", "min wall distance [dx]", "wall-pressure error", "pressure noise",
+              "f_sym", "energy drift", "particle-steps/s", "relative time"]
+    kinds = [None, None, "int", None, "pct", "pct", None, "pct", "M", None]
+    keys = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
+            "f_sym", "energy_drift", "particle_steps_per_s", "relative_time"]
+    lines = [f"# {case_name}: wall models compared", "",
+             f"dx = {dx if dx is not None else 'case default'}, t_end = {t_end if t_end is not None else 'case default'}; "
+             "metrics are defined in `seawall/compare.py`. n/a: nothing to measure in this case.", "",
+             "| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    for row in rows:
+        lines.append("| " + " | ".join(_fmt(row.get(k), kind) for k, kind in zip(keys, kinds)) + " |")
+    lines.append("")
+    probe_pngs = sorted(f for f in os.listdir(os.path.dirname(path) or ".") if f.startswith("probe_"))
+    for png in probe_pngs:
+        lines.append(f"![{png[6:-4]}]({png})")
+    with open(path, "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+
+
+def _plot_probes(out, boundaries, results):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = [n for n in results[0]["probes"] if n not in ("mass",)]
+    for name in names:
+        fig, ax = plt.subplots(figsize=(7, 3.4), dpi=100)
+        for b, r in zip(boundaries, results):
+            if name in r["probes"]:
+                ax.plot(r["times"], [np.nan if v is None else v for v in r["probes"][name]], lw=1, label=b)
+        ax.set_xlabel("t [s]")
+        ax.set_title(name)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f"probe_{name}.png"))
+        plt.close(fig)
