@@ -36,7 +36,7 @@ def _scheme(params, c0):
         raise ParameterError(f"scheme must be one of {', '.join(SCHEMES)}; got {scheme!r}")
     if scheme == "marrone2011":
         preset = marrone2011(c0, alpha=params["alpha"], delta=params["delta"])
-        return preset.kernel, lambda block, pressure=None: preset.fluid(block, rho0=RHO0, pressure=pressure)
+        return preset.kernel, lambda block, pressure=None: preset.fluid(block, rho0=params["rho0"], pressure=pressure)
     return CubicSpline(), lambda block, pressure=None: _fluid(block, params, c0=c0, pressure=pressure)
 
 
@@ -72,17 +72,17 @@ def dam_break_pressure(x, y, L, H, *, rho0=RHO0, c0, g=GRAVITY, n_terms=400):
 
 def _fluid(block, params, *, c0, pressure=None):
     delta = params["delta"]
-    return FluidSystem(block, rho0=RHO0, eos=Tait(c0=c0, gamma=7.0),
+    return FluidSystem(block, rho0=params["rho0"], eos=Tait(c0=c0, gamma=7.0),
                        viscosity=ArtificialViscosity(alpha=params["alpha"]) if params["alpha"] > 0 else None,
                        density_diffusion=DeltaSPH(delta=delta, lagged_gradient=params["lagged_gradient"])
                        if delta > 0 else None,
                        pressure=pressure)
 
 
-def _hydrostatic(depth, c0, dim):
+def _hydrostatic(depth, rho0, dim):
     """Initial pressure rho0 g (H - y) of still water, y the last axis."""
     def pressure(x):
-        return RHO0 * GRAVITY * np.maximum(depth - x[:, dim - 1], 0.0)
+        return rho0 * GRAVITY * np.maximum(depth - x[:, dim - 1], 0.0)
     return pressure
 
 
@@ -110,6 +110,7 @@ COMMON = {
     "alpha": Parameter(0.02, "artificial viscosity alpha"),
     "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
     "cfl": Parameter(0.2, "CFL number"),
+    "rho0": Parameter(RHO0, "reference density [kg/m^3]"),
     "lagged_gradient": Parameter(True, "delta-SPH gradient from the previous evaluation (one pass); false = two passes", bool),
 }
 
@@ -135,7 +136,7 @@ def build_hydrostatic(params, wall_model, threads):
     params["c0"] = c0
     kernel, make_fluid = _scheme(params, c0)
     fluid = make_fluid(shapes.rectangle((0.0, 0.0), (length, depth), dx),
-                       pressure=_hydrostatic(depth, c0, 2) if params["initial"] == "hydrostatic" else None)
+                       pressure=_hydrostatic(depth, params["rho0"], 2) if params["initial"] == "hydrostatic" else None)
     if params["initial"] not in ("hydrostatic", "rest"):
         raise ParameterError(f"initial must be 'hydrostatic' or 'rest', got {params['initial']!r}")
     tank = shapes.tank((0.0, 0.0), (snap(length, dx), snap(params["height"], dx)), dx, layers=wall_layers(kernel, h, dx))
@@ -146,7 +147,7 @@ def build_hydrostatic(params, wall_model, threads):
         if y <= depth:
             sim.add(probes.WallPressure(f"P{k}", (0.0, y)))
     sim.add(probes.KineticEnergy(), probes.TotalMass())
-    sim.reference = {"type": "hydrostatic", "depth": depth, "rho0": RHO0, "g": GRAVITY}
+    sim.reference = {"type": "hydrostatic", "depth": depth, "rho0": params["rho0"], "g": GRAVITY}
     return sim
 
 
@@ -184,7 +185,7 @@ def build_dam_break(params, wall_model, threads):
     pressure = None
     if params["initial"] == "analytic":
         def pressure(x):
-            return dam_break_pressure(x[:, 0], x[:, 1], 2.0 * H, H, c0=c0)
+            return dam_break_pressure(x[:, 0], x[:, 1], 2.0 * H, H, rho0=params["rho0"], c0=c0)
     fluid = make_fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), pressure=pressure)
     tank = shapes.tank((0.0, 0.0), (length, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
     walls = WallSystem(tank, model=wall_model(), name="tank")
