@@ -431,6 +431,51 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
     return Shape(pos[order], dx, normals[order], surface[order], layer[order])
 
 
+def tank_surface(lo, hi, spacing, open_top=True) -> Shape:
+    """One layer of wall particles *on* the surface of the box [lo, hi] (2D or 3D).
+
+    For repulsive-particle walls (Monaghan & Kajtar 2009; seed 004), whose
+    particles sit on the wall line at a spacing ``spacing`` = dx / beta,
+    smaller than the fluid's. Faces are the planes x_k = lo_k, hi_k except the
+    top (last axis) when ``open_top``; each face is sampled with
+    round(length / spacing) intervals, corners and edges once. ``normals``
+    point into the box (diagonal at corners and edges) and ``surface_points``
+    are the positions themselves.
+
+    Parameters
+    ----------
+    lo, hi : sequence of 2 or 3 floats
+        Corners of the interior box [m].
+    spacing : float
+        Distance between neighbouring wall particles [m].
+    open_top : bool
+        Leave out the top face.
+    """
+    lo, hi = _box_corners(lo, hi)
+    spacing = require_positive("spacing", spacing)
+    dim = lo.size
+    axes = []
+    for k in range(dim):
+        n = max(1, int(round((hi[k] - lo[k]) / spacing)))
+        axes.append(np.linspace(lo[k], hi[k], n + 1))
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, dim)
+    tol = 1e-9 * spacing
+    on_face = np.zeros((grid.shape[0], dim, 2), dtype=bool)
+    for k in range(dim):
+        on_face[:, k, 0] = np.abs(grid[:, k] - lo[k]) < tol
+        on_face[:, k, 1] = np.abs(grid[:, k] - hi[k]) < tol
+    if open_top:
+        on_face[:, dim - 1, 1] = False
+    keep = on_face.reshape(grid.shape[0], -1).any(axis=1)
+    pos = grid[keep]
+    faces = on_face[keep]
+    normals = np.zeros_like(pos)
+    for k in range(dim):
+        normals[:, k] += faces[:, k, 0].astype(float) - faces[:, k, 1].astype(float)
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    return Shape(pos, spacing, normals=normals, surface_points=pos.copy(), layer=np.zeros(pos.shape[0], dtype=int))
+
+
 def tank_interior_lattice(lo, hi, dx) -> Shape:
     """Fluid lattice filling [lo, hi]; same as `block`, shares the `tank` lattice.
 

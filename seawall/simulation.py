@@ -215,7 +215,8 @@ class Simulation:
         dx = self.fluid.spacing
         x = self.fluid.particles["x"]
         for wall in self.walls:
-            pi, pj = neighbour_pairs(self.grid, x, wall.x, radius=min(0.5 * dx, self.grid.radius))
+            # exactly 0.5 dx (a wall row on the surface, fluid at the first lattice site) is allowed
+            pi, pj = neighbour_pairs(self.grid, x, wall.x, radius=min(0.5 * dx * (1 - 1e-6), self.grid.radius))
             if pi.size:
                 k = int(pi[0])
                 raise ParameterError(

@@ -34,6 +34,14 @@ def _shepard(options):
     return ImprovedShepard(mu=float(options.pop("shepard_mu", 4.0)), lam=float(options.pop("shepard_lambda", 2.0)))
 
 
+def _monaghan_kajtar(options):
+    from .repulsive import MonaghanKajtar
+
+    K = options.pop("K", None)
+    return MonaghanKajtar(K=None if K is None else float(K), beta=float(options.pop("beta", 3.0)),
+                          alpha_wall=float(options.pop("alpha_wall", 0.0)))
+
+
 def _flag(value):
     if isinstance(value, bool):
         return value
@@ -83,6 +91,8 @@ BOUNDARIES = {
                          "fixed ghost particles, normalised (Shepard kernel) interpolation (seed 001); slip=free|noslip"),
     "ghost-shepard": (_ghost(_shepard),
                       "fixed ghost particles, improved Shepard interpolation (seed 001); slip, shepard_mu, shepard_lambda"),
+    "monaghan-kajtar": (_monaghan_kajtar, "repulsive wall particles, Monaghan & Kajtar (2009), one row at dx/beta "
+                        "(--set K=... beta=3 alpha_wall=0)"),
     "dbc": (_dynamic(DynamicBoundary),
             "dynamic boundary particles, Crespo et al. (2007): continuity + linear EOS (seed 000 eq. 12)"),
     "idbc": (_dynamic(ImprovedDynamicBoundary),

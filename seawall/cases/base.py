@@ -85,9 +85,23 @@ class Case:
 
 
 #: keys of --set that belong to the wall model rather than the case
-BOUNDARY_OPTION_KEYS = {"wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
+BOUNDARY_OPTION_KEYS = {"K", "beta", "wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
                         "shepard_mu", "shepard_lambda", "sfdi_diagonal",
                         "alpha_wall", "wall_density"}
+
+
+def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):
+    """The tank's wall particles in the layout the wall model needs.
+
+    Layered walls (dummy, ghost, DBC) continue the fluid lattice in
+    ceil(support / dx) layers; repulsive walls (``wall_layout = "surface"``)
+    are one row on the surface at spacing dx / beta.
+    """
+    from .. import shapes
+
+    if getattr(model, "wall_layout", "layers") == "surface":
+        return shapes.tank_surface(lo, hi, dx / model.beta, open_top=open_top)
+    return shapes.tank(lo, hi, dx, layers=wall_layers(kernel, h, dx), open_top=open_top)
 
 
 def wall_layers(kernel, h, dx):

@@ -21,7 +21,7 @@ from ..integrators import Symplectic
 from ..fluid.presets import marrone2011
 from ..kernels import CubicSpline
 from ..simulation import Simulation
-from .base import GRAVITY, Case, Parameter, wall_layers
+from .base import GRAVITY, Case, Parameter, tank_wall
 
 RHO0 = 1000.0
 
@@ -139,8 +139,9 @@ def build_hydrostatic(params, wall_model, threads):
                        pressure=_hydrostatic(depth, params["rho0"], 2) if params["initial"] == "hydrostatic" else None)
     if params["initial"] not in ("hydrostatic", "rest"):
         raise ParameterError(f"initial must be 'hydrostatic' or 'rest', got {params['initial']!r}")
-    tank = shapes.tank((0.0, 0.0), (snap(length, dx), snap(params["height"], dx)), dx, layers=wall_layers(kernel, h, dx))
-    walls = WallSystem(tank, model=wall_model(), name="tank")
+    model = wall_model()
+    tank = tank_wall(model, (0.0, 0.0), (snap(length, dx), snap(params["height"], dx)), dx, kernel, h)
+    walls = WallSystem(tank, model=model, name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
                      integrator=_integrator(params), threads=threads)
     for k, y in enumerate((0.0, 0.1, 0.2, 0.25)):
@@ -187,8 +188,9 @@ def build_dam_break(params, wall_model, threads):
         def pressure(x):
             return dam_break_pressure(x[:, 0], x[:, 1], 2.0 * H, H, rho0=params["rho0"], c0=c0)
     fluid = make_fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), pressure=pressure)
-    tank = shapes.tank((0.0, 0.0), (length, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
-    walls = WallSystem(tank, model=wall_model(), name="tank")
+    model = wall_model()
+    tank = tank_wall(model, (0.0, 0.0), (length, snap(2.0 * H, dx)), dx, kernel, h)
+    walls = WallSystem(tank, model=model, name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
                      integrator=_integrator(params), threads=threads)
     for name, frac in (("S1", 0.010), ("S2", 0.050), ("S3", 0.100), ("S4", 0.2667), ("P1", 0.2)):
@@ -223,8 +225,9 @@ def build_collapse(params, wall_model, threads):
     params["c0"] = c0
     kernel = CubicSpline()
     fluid = _fluid(shapes.rectangle((0.0, 0.0), (a, height), dx), params, c0=c0)
-    tank = shapes.tank((0.0, 0.0), (snap(4.0 * a, dx), snap(2.4 * a, dx)), dx, layers=wall_layers(kernel, h, dx))
-    walls = WallSystem(tank, model=wall_model(), name="tank")
+    model = wall_model()
+    tank = tank_wall(model, (0.0, 0.0), (snap(4.0 * a, dx), snap(2.4 * a, dx)), dx, kernel, h)
+    walls = WallSystem(tank, model=model, name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(2),
                      integrator=Symplectic(cfl=params["cfl"]), threads=threads)
     sim.add(probes.SurgeFront("front"), probes.KineticEnergy(), probes.TotalMass())
@@ -254,8 +257,9 @@ def build_dam_break_3d(params, wall_model, threads):
     W = snap(W, dx)
     kernel = CubicSpline()
     fluid = _fluid(shapes.box((0.0, 0.0, 0.0), (2.0 * H, W, H), dx), params, c0=c0)
-    tank = shapes.tank((0.0, 0.0, 0.0), (length, W, snap(2.0 * H, dx)), dx, layers=wall_layers(kernel, h, dx))
-    walls = WallSystem(tank, model=wall_model(), name="tank")
+    model = wall_model()
+    tank = tank_wall(model, (0.0, 0.0, 0.0), (length, W, snap(2.0 * H, dx)), dx, kernel, h)
+    walls = WallSystem(tank, model=model, name="tank")
     sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(3),
                      integrator=Symplectic(cfl=params["cfl"]), threads=threads)
     for name, frac in (("S1", 0.010), ("S3", 0.100), ("P1", 0.2)):

@@ -1,0 +1,155 @@
+"""Repulsive-particle walls: Monaghan & Kajtar (2009), as seed 004 writes it.
+
+The wall is one row of particles on the wall surface, spaced d = dx / beta.
+Each pushes a fluid particle a within reach along r_ab = r_a - r_b with the
+acceleration (seed 004, "Repulsive Particles"; Monaghan & Kajtar 2009 eq. 3.1)
+
+    f~_ab = K / beta^(n-1) * r_ab / (|r_ab| (|r_ab| - d)) * Phi(|r_ab|, h) * 2 m_b / (m_a + m_b)
+
+with n the dimension and Phi(r, h) = w(r/h) the 1D Wendland C4 function
+normalised to 1.77 at q = 0:
+
+    w(q) = (1.77/32) (1 + 5/2 q + 2 q^2) (2 - q)^5   for 0 <= q < 2, else 0.
+
+The factor 1/(|r| - d) makes the push grow without bound as a fluid particle
+approaches a wall particle to within d, so the fluid cannot reach the wall
+row. Where |r| <= d (a particle that a large time step carried past that
+barrier) the formula would change sign and pull; there the distance is
+floored at 1.01 d so the push stays repulsive and finite. The wall particles
+carry no density or pressure; the fluid does not count them in its continuity
+equation (the seed gives only the force). Optionally the artificial viscosity
+of the pair, -m_b Pi_ab grad_a W_ab with rho_b = rho_a, is added (no slip in
+the seed's sense; free slip without it).
+
+K scales the force; Monaghan & Kajtar use g D for a tank of depth D, which is
+the default here (D = the fluid's initial vertical extent).
+"""
+
+import numpy as np
+from numba import njit, prange
+
+from ..errors import ParameterError, require_nonnegative, require_positive
+from ..kernels import kernel_gradient_factor
+from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
+from .base import WallModel
+
+
+@njit(cache=True, inline="always")
+def wendland_c4_1d(q):
+    """Phi of Monaghan & Kajtar: (1.77/32)(1 + 2.5 q + 2 q^2)(2 - q)^5 for q < 2 (1.77 at q = 0)."""
+    if q >= 2.0:
+        return 0.0
+    t = 2.0 - q
+    return 1.77 / 32.0 * (1.0 + 2.5 * q + 2.0 * q * q) * t * t * t * t * t
+
+
+@njit(cache=True, inline="always")
+def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b):
+    """The scalar s with f~_ab = s r_ab (seed 004); the distance in (|r| - d) floored at 1.01 d."""
+    rr = r if r > 1.01 * d else 1.01 * d
+    return K / beta ** (dim - 1) / (r * (rr - d)) * wendland_c4_1d(r / h) * 2.0 * m_b / (m_a + m_b)
+
+
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+def repulsive_wall_forces(layout, xf, vf, rhof, cf, mf, xw, vw, mw, start, order, reach, lo, inv_cell, ncell,
+                          period, prm, K, beta, spacing, alpha_wall, dv):
+    """Add the Monaghan-Kajtar wall acceleration (and optional viscosity) to the fluid's dv."""
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    nrows = 25 if dim == 3 else 5
+    h = prm.h
+    inv_h = 1.0 / h
+    gradient_scale = prm.sigma * inv_h * inv_h
+    for i in prange(xf.shape[0]):
+        p0, p1, p2 = point_of(xf, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
+            continue
+        vi0, vi1, vi2 = point_of(vf, i, dim)
+        a0 = a1 = a2 = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    b = order[k]
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xw, b, dim, periodic, period)
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    r = np.sqrt(r2)
+                    s = repulsive_acceleration_factor(r, h, spacing, K, beta, dim, mf[i], mw[b])
+                    if alpha_wall > 0.0:
+                        vb0, vb1, vb2 = point_of(vw, b, dim)
+                        vr = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
+                        if vr < 0.0:
+                            mu = h * vr / (r2 + prm.eta2)
+                            pi_ab = -alpha_wall * cf[i] * mu / rhof[i]
+                            s -= mw[b] * pi_ab * gradient_scale * kernel_gradient_factor(prm.kernel, r * inv_h)
+                    a0 += s * d0
+                    a1 += s * d1
+                    a2 += s * d2
+        dv[i, 0] += a0
+        dv[i, 1] += a1
+        if dim == 3:
+            dv[i, 2] += a2
+
+
+class MonaghanKajtar(WallModel):
+    """Repulsive wall particles of Monaghan & Kajtar (2009), seed 004.
+
+    Parameters
+    ----------
+    K : float, optional
+        Force scale [m^2/s^2]; default g D with D the fluid's initial depth
+        (Monaghan & Kajtar's choice for tanks).
+    beta : float
+        Fluid spacing / wall spacing, 3 by default (Monaghan & Kajtar, sec. 4).
+    alpha_wall : float
+        Artificial viscosity of the fluid-wall pair (0 = free slip).
+
+    The wall must be a single row of particles on the surface at spacing
+    dx / beta: :func:`seawall.shapes.tank_surface` (the tank cases build it
+    when this model is chosen).
+    """
+
+    name = "monaghan-kajtar"
+    #: the cases build a single surface row at dx / beta for this model
+    wall_layout = "surface"
+
+    def __init__(self, *, K=None, beta=3.0, alpha_wall=0.0):
+        self.K = None if K is None else require_positive("K", K)
+        self.beta = require_positive("beta", beta)
+        self.alpha_wall = require_nonnegative("alpha_wall", alpha_wall)
+        self._K = 0.0
+
+    def prepare(self, wall, fluid, physics):
+        pa = wall.particles
+        expected = fluid.spacing / self.beta
+        if abs(wall.spacing - expected) > 1e-6 * expected:
+            raise ParameterError(
+                f"monaghan-kajtar needs wall particles spaced dx / beta = {expected:g} m, got {wall.spacing:g} m "
+                f"(build the wall with seawall.shapes.tank_surface)")
+        pa["m"] = np.full(wall.n, physics.rho0 * wall.spacing ** wall.dim)
+        if self.K is not None:
+            self._K = self.K
+        else:
+            g = float(np.sqrt(physics.gx ** 2 + physics.gy ** 2 + physics.gz ** 2))
+            x = fluid.particles["x"]
+            depth = float(x[:, -1].max() - x[:, -1].min()) + fluid.spacing
+            self._K = g * depth
+            if self._K <= 0.0:
+                raise ParameterError("monaghan-kajtar: without gravity give K explicitly (--set K=...)")
+
+    def update(self, wall, fluid, ctx):
+        """Repulsive particles carry no state to update."""
+
+    def interact(self, fluid, wall, ctx, dv, drho):
+        g = ctx.grid
+        pa = wall.particles
+        fp = fluid.particles
+        repulsive_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["c"], fp["m"], pa["x"], pa["v"], pa["m"],
+                              wall.cells.start, wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell,
+                              g.ncell, g.period, ctx.physics, self._K, self.beta, wall.spacing,
+                              self.alpha_wall, dv)
+
+    def describe(self):
+        return self.name
