@@ -130,6 +130,8 @@ class Simulation:
                     f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS}, got {threads}")
             numba.set_num_threads(threads)
         self.metadata = dict(metadata or {})
+        #: what the case compares against (set by cases; used by seawall compare)
+        self.reference = None
 
         self.physics = self._compile_physics(g)
         self.grid = self._make_grid(domain, periodic)
@@ -485,6 +487,7 @@ class Simulation:
         attrs = {"time": self.time, "step": self.step, "next_dt": self.next_dt,
                  "escaped_mass": self.escaped_mass, "next_probe": self._next_probe,
                  "probe_every": self.probe_every, "probe_names": [p.name for p in self.probes],
+                 "wall_model_state": {w.name: w.model.state() for w in self.walls},
                  "dim": self.dim, "n_fluid_initial_mass": self.fluid.initial_mass,
                  "metadata": self.metadata}
         save_checkpoint(path, arrays, attrs)
@@ -503,6 +506,7 @@ class Simulation:
             for name, a in arrays[key].items():
                 wall.particles[name] = a
             wall.cells = self.grid.build(wall.x)
+            wall.model.set_state((attrs.get("wall_model_state") or {}).get(wall.name, {}))
         fp = self.fluid.particles
         for name in list(fp.names()):
             if name not in arrays["fluid"]:

@@ -53,6 +53,13 @@ class WallModel:
         """One line for summaries."""
         return self.name
 
+    def state(self):
+        """Scalars the model keeps between evaluations (saved in checkpoints); JSON-compatible."""
+        return {}
+
+    def set_state(self, state):
+        """Restore what :meth:`state` returned."""
+
 
 class WallSystem:
     """Wall particles and the model that makes them act on the fluid.

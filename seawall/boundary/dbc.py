@@ -450,6 +450,13 @@ class ImprovedDynamicBoundary(WallModel):
         prm = ctx.physics
         wall_pressures(pa["rho"], prm.rho0, prm.c0, self.order, prm.p_background, pa["p"])
 
+    def state(self):
+        """Time of the last update (the wall density is advanced from it); kept in checkpoints."""
+        return {"t_last": self._t_last}
+
+    def set_state(self, state):
+        self._t_last = state.get("t_last")
+
     def interact(self, fluid, wall, ctx, dv, drho):
         g = ctx.grid
         pa = wall.particles

@@ -9,20 +9,21 @@ from seawall.cases import build
 from seawall.errors import InstabilityError, ParameterError
 
 
-def small_tank(dx=0.05):
-    return build("hydrostatic", dx=dx, length=0.5, depth=0.2, height=0.3, initial="rest")
+def small_tank(dx=0.05, boundary="adami"):
+    return build("hydrostatic", dx=dx, length=0.5, depth=0.2, height=0.3, initial="rest", boundary=boundary)
 
 
-def test_restart_continues_identically(tmp_path):
+@pytest.mark.parametrize("boundary", ["adami", "continuity", "dbc", "ghost-shepard"])
+def test_restart_continues_identically(tmp_path, boundary):
     # the checkpoint written during an uninterrupted run (at the first step after 0.06 s)
-    # must restart into exactly the same trajectory
-    reference = small_tank()
+    # must restart into exactly the same trajectory, wall models with their own state included
+    reference = small_tank(boundary=boundary)
     reference.add(sw.output.Checkpoint(str(tmp_path), every=0.06), every=0.01)
     ref_result = reference.run(0.1, progress=False)
     path = tmp_path / "checkpoint.h5"
     assert path.exists()
 
-    second = small_tank()
+    second = small_tank(boundary=boundary)
     second.add(every=0.01)
     second.restart(str(path))
     assert 0.06 <= second.time < 0.07
