@@ -138,6 +138,23 @@ class SurgeFront(Probe):
         return float(col.max() if self.direction > 0 else col.min())
 
 
+class WallForce(Probe):
+    """Force of the fluid on the wall system ``wall`` along ``axis`` [N, per metre in 2D].
+
+    The sum over fluid particles of -m_i times the wall's contribution to
+    their acceleration, at the last evaluation of the rates (the pairwise form
+    of seed 001 eq. 29 for a momentum-conserving wall model).
+    """
+
+    def __init__(self, name, wall, axis=0):
+        super().__init__(name)
+        self.wall = str(wall)
+        self.axis = int(axis)
+
+    def sample(self, sim):
+        return float(sim.wall_forces[self.wall][self.axis])
+
+
 class KineticEnergy(Probe):
     """Total kinetic energy of the fluid, sum m |v|^2 / 2 [J] (per metre of depth in 2D)."""
 

@@ -132,6 +132,9 @@ class Simulation:
         self.metadata = dict(metadata or {})
         #: what the case compares against (set by cases; used by seawall compare)
         self.reference = None
+        #: wall name -> force of the fluid on it at the last evaluation [N (per m in 2D)]; filled for
+        #: the walls a WallForce probe asks about
+        self.wall_forces = {}
 
         self.physics = self._compile_physics(g)
         self.grid = self._make_grid(domain, periodic)
@@ -234,6 +237,11 @@ class Simulation:
             if isinstance(item, Probe):
                 if any(p.name == item.name for p in self.probes):
                     raise ParameterError(f"two probes are named {item.name!r}")
+                wall_name = getattr(item, "wall", None)
+                if wall_name is not None:
+                    if wall_name not in [w.name for w in self.walls]:
+                        raise ParameterError(f"probe {item.name!r}: no wall named {wall_name!r}")
+                    self.wall_forces.setdefault(wall_name, np.zeros(self.dim))
                 self.probes.append(item)
             elif isinstance(item, (VTK, Checkpoint)):
                 self.outputs.append(item)
@@ -244,7 +252,7 @@ class Simulation:
         return self
 
     def wall_moves(self, wall):
-        return getattr(wall, "movement", None) is not None
+        return wall.movement is not None
 
     # ------------------------------------------------------------------ physics
     def evaluate(self, t):
@@ -266,6 +274,8 @@ class Simulation:
         equation_of_state(fp["rho"], fp["m"], prm, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
         ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing)
         for wall in self.walls:
+            if wall.movement is not None and wall.movement.apply(wall, t):
+                wall.cells = g.build(wall.x)  # neighbour structures refreshed only while moving
             wall.model.update(wall, self.fluid, ctx)
         lagged = prm.diffusion == DIFFUSION_RENORMALISED and prm.lagged_gradient
         if prm.diffusion == DIFFUSION_RENORMALISED and (not lagged or not self._rates_ready):
@@ -285,7 +295,13 @@ class Simulation:
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
         for wall in self.walls:
-            wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
+            if wall.name in self.wall_forces:
+                before = fp["dv"].copy()
+                wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
+                # force of the fluid on the wall = minus what the wall adds to m_i dv_i (pairwise forms)
+                self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
+            else:
+                wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
         if self.fluid.density_mode == "summation":
             fp["drho"][:] = 0.0
 

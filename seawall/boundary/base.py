@@ -74,11 +74,13 @@ class WallSystem:
         extrapolation, free slip.
     velocity : array-like, optional
         Prescribed velocity of the wall particles [m/s] (constant), default 0.
+    movement : seawall.boundary.movement.PrescribedMotion, optional
+        Prescribed motion x(t) = x0 + f(t) of (some of) the particles.
     name : str
         Used in messages and output file names.
     """
 
-    def __init__(self, shape, *, model=None, velocity=None, name="wall"):
+    def __init__(self, shape, *, model=None, velocity=None, movement=None, name="wall"):
         from .dummy import DummyParticles  # the default model
 
         if shape is None or getattr(shape, "positions", None) is None:
@@ -108,6 +110,9 @@ class WallSystem:
             self.particles.add("surface", np.ascontiguousarray(surface, dtype=np.float64))
         self.particles.add("id", np.arange(n, dtype=np.int64))
         self.cells = None
+        self.movement = movement
+        if movement is not None:
+            movement.attach(self)
 
     @property
     def n(self):
