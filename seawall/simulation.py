@@ -436,7 +436,7 @@ class Simulation:
                     if out.due(self.time):
                         out.write(self)
                 now = _time.perf_counter()
-                if bar is not None and (now - last_bar > 0.5 or self.time >= t_end - 1e-12):
+                if bar is not None and (now - last_bar > bar.mininterval or self.time >= t_end - 1e-12):
                     rate = particle_steps / max(now - loop_start, 1e-9)
                     bar.n = round(self.time, 6)
                     bar.set_postfix_str(f"step {self.step}, dt {self.next_dt:.2e} s, {rate / 1e6:.2f} M particle-steps/s")
@@ -554,6 +554,8 @@ def _progress_bar(t_end, t_start, enabled):
         return None
     from tqdm import tqdm
 
+    # in a terminal the bar redraws twice a second; in a log file one line every 30 s is plenty
+    interactive = sys.stderr.isatty()
     return tqdm(total=round(t_end, 6), initial=round(t_start, 6), unit="s", file=sys.stderr,
                 bar_format="{l_bar}{bar}| {n:.4f}/{total:.4f} s simulated [{elapsed}<{remaining}{postfix}]",
-                dynamic_ncols=True, mininterval=0.5)
+                dynamic_ncols=True, mininterval=0.5 if interactive else 30.0)
