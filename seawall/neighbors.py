@@ -316,10 +316,11 @@ def cells_within_reach(start, ncell, period):
 
 
 @njit(cache=True, parallel=True)
-def _count_pairs(xa, xb, start, order, lo, inv_cell, ncell, period, radius2, same):
+def _pair_pass(xa, xb, start, order, lo, inv_cell, ncell, period, radius2, same, fill, offsets, counts, pairs_j):
+    """One sweep over the pairs within the radius: count them per particle, or (``fill``)
+    write their partner indices at ``offsets``. The pair search runs it twice."""
     na = xa.shape[0]
     dim = xa.shape[1]
-    counts = np.zeros(na, dtype=np.int64)
     nrows = 25 if dim == 3 else 5
     for i in prange(na):
         p0, p1, p2 = point_of(xa, i, dim)
@@ -332,39 +333,13 @@ def _count_pairs(xa, xb, start, order, lo, inv_cell, ncell, period, radius2, sam
                     j = order[k]
                     if same and j == i:
                         continue
-                    q0, q1, q2 = point_of(xb, j, dim)
-                    d0 = minimum_image(p0 - q0, period[0])
-                    d1 = minimum_image(p1 - q1, period[1])
-                    d2 = minimum_image(p2 - q2, period[2])
-                    if d0 * d0 + d1 * d1 + d2 * d2 < radius2:
+                    # minimum_image is the identity on non-periodic axes (period 0)
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xb, j, dim, True, period)
+                    if r2 < radius2:
+                        if fill:
+                            pairs_j[offsets[i] + c] = j
                         c += 1
         counts[i] = c
-    return counts
-
-
-@njit(cache=True, parallel=True)
-def _fill_pairs(xa, xb, start, order, lo, inv_cell, ncell, period, radius2, same, offsets, pairs_j):
-    na = xa.shape[0]
-    dim = xa.shape[1]
-    nrows = 25 if dim == 3 else 5
-    for i in prange(na):
-        p0, p1, p2 = point_of(xa, i, dim)
-        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-        w = offsets[i]
-        for row in range(nrows):
-            for part in range(2):
-                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
-                for k in range(ka, kb):
-                    j = order[k]
-                    if same and j == i:
-                        continue
-                    q0, q1, q2 = point_of(xb, j, dim)
-                    d0 = minimum_image(p0 - q0, period[0])
-                    d1 = minimum_image(p1 - q1, period[1])
-                    d2 = minimum_image(p2 - q2, period[2])
-                    if d0 * d0 + d1 * d1 + d2 * d2 < radius2:
-                        pairs_j[w] = j
-                        w += 1
 
 
 def neighbour_pairs(grid, xa, xb=None, radius=None):
@@ -380,12 +355,12 @@ def neighbour_pairs(grid, xa, xb=None, radius=None):
     if radius > grid.radius * (1 + 1e-12):
         raise ParameterError(f"radius {radius} exceeds the grid's search radius {grid.radius}")
     cells = grid.build(xb)
-    counts = _count_pairs(xa, xb, cells.start, cells.order, grid.lo, grid.inv_cell, grid.ncell,
-                          grid.period, radius * radius, same)
+    args = (xa, xb, cells.start, cells.order, grid.lo, grid.inv_cell, grid.ncell, grid.period, radius * radius, same)
+    counts = np.zeros(xa.shape[0], dtype=np.int64)
+    _pair_pass(*args, False, counts, counts, np.empty(0, dtype=np.int64))
     offsets = np.zeros(counts.size + 1, dtype=np.int64)
     np.cumsum(counts, out=offsets[1:])
     pairs_j = np.empty(offsets[-1], dtype=np.int64)
-    _fill_pairs(xa, xb, cells.start, cells.order, grid.lo, grid.inv_cell, grid.ncell, grid.period,
-                radius * radius, same, offsets[:-1].copy(), pairs_j)
+    _pair_pass(*args, True, offsets, counts, pairs_j)
     pairs_i = np.repeat(np.arange(counts.size, dtype=np.int64), counts)
     return pairs_i, pairs_j
