@@ -133,7 +133,7 @@ def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, or
                     for k in range(ka, kb):
                         j = order_w[k] if which == 0 else order_f[k]
                         if which == 0:
-                            q0, q1, q2 = point_of(xw, j, dim)
+                            d0, d1, d2, r2 = separation(p0, p1, p2, xw, j, dim, periodic, period)
                         else:
                             d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
                         if r2 >= prm.support2:
