@@ -19,7 +19,7 @@ from .errors import InstabilityError, ParameterError, SeawallError
 from .fluid import ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi
 from .integrators import LeapFrog, Symplectic
 from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC4
-from . import probes, output
+from . import coupling, probes, output
 from .simulation import RunResult, Simulation
 
 __version__ = "0.1.0"

@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from .boundary.base import EvaluationContext, WallSystem
+from .coupling import Coupling
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
@@ -61,7 +62,9 @@ class Simulation:
     Parameters
     ----------
     systems : list
-        One :class:`FluidSystem` and any number of :class:`WallSystem`.
+        One :class:`FluidSystem`, any number of :class:`WallSystem` and of
+        :class:`~seawall.coupling.Coupling` (spring-mounted walls, open
+        boundaries, ...).
     kernel : Kernel
         Smoothing kernel, default :class:`CubicSpline`.
     h : float
@@ -89,17 +92,22 @@ class Simulation:
                  metadata=None):
         fluids = [s for s in systems if isinstance(s, FluidSystem)]
         walls = [s for s in systems if isinstance(s, WallSystem)]
-        others = [s for s in systems if not isinstance(s, (FluidSystem, WallSystem))]
+        couplings = [s for s in systems if isinstance(s, Coupling)]
+        others = [s for s in systems if not isinstance(s, (FluidSystem, WallSystem, Coupling))]
         if len(fluids) != 1:
             raise ParameterError(f"systems must contain exactly one FluidSystem, got {len(fluids)}")
         if others:
             raise ParameterError(f"unknown system type {type(others[0]).__name__}")
         self.fluid = fluids[0]
         self.walls = walls
+        self.couplings = couplings
         self.dim = self.fluid.dim
         names = [w.name for w in walls]
         if len(set(names)) != len(names):
             raise ParameterError(f"wall names must be unique, got {names}")
+        coupling_names = [c.name for c in couplings]
+        if len(set(coupling_names)) != len(coupling_names):
+            raise ParameterError(f"coupling names must be unique, got {coupling_names}")
         for w in walls:
             if w.dim != self.dim:
                 raise ParameterError(f"wall {w.name!r} is {w.dim}D but the fluid is {self.dim}D")
@@ -170,6 +178,21 @@ class Simulation:
         self.probe_every = None
         self._next_probe = 0.0
         self.probe_csv = None
+        for coupling in self.couplings:
+            coupling.prepare(self)
+
+    def couple(self, *couplings):
+        """Add :class:`~seawall.coupling.Coupling` objects to a built simulation (before it runs)."""
+        for coupling in couplings:
+            if not isinstance(coupling, Coupling):
+                raise ParameterError(f"cannot couple {coupling!r}: expected a seawall.coupling.Coupling")
+            if any(c.name == coupling.name for c in self.couplings):
+                raise ParameterError(f"coupling names must be unique, {coupling.name!r} is taken")
+            if self._rates_ready:
+                raise ParameterError("couplings must be added before the simulation first runs")
+            self.couplings.append(coupling)
+            coupling.prepare(self)
+        return self
 
     # ------------------------------------------------------------------ setup
     def _compile_physics(self, g):
@@ -302,6 +325,8 @@ class Simulation:
                 self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
             else:
                 wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
+        for coupling in self.couplings:
+            coupling.add_rates(self, ctx)
         if self.fluid.density_mode == "summation":
             fp["drho"][:] = 0.0
 
@@ -382,6 +407,8 @@ class Simulation:
         self.integrator.step(self, dt)
         self.time += dt
         self.step += 1
+        for coupling in self.couplings:
+            coupling.after_step(self, dt)
         self._check_health()
         self.next_dt = self.integrator.time_step(self.fluid, self.physics)
         if not (self.next_dt > 0) or not math.isfinite(self.next_dt):
@@ -479,6 +506,8 @@ class Simulation:
             "h": self.h,
             "dx": self.fluid.spacing,
             "walls": {w.name: w.model.describe() for w in self.walls},
+            **({"couplings": {c.name: {"model": c.describe(), **c.summary()} for c in self.couplings}}
+               if self.couplings else {}),
         }
 
     def result(self, summary):
@@ -499,11 +528,14 @@ class Simulation:
             "times": np.asarray(self.probe_times, dtype=np.float64),
             "values": np.asarray(self.probe_values, dtype=np.float64).reshape(len(self.probe_times), len(self.probes)),
         }
+        for coupling in self.couplings:
+            arrays[f"coupling_{coupling.name}"] = dict(coupling.arrays())
         arrays["escaped"] = {"records": np.asarray(self.escaped, dtype=np.float64).reshape(len(self.escaped), 2 + self.dim)}
         attrs = {"time": self.time, "step": self.step, "next_dt": self.next_dt,
                  "escaped_mass": self.escaped_mass, "next_probe": self._next_probe,
                  "probe_every": self.probe_every, "probe_names": [p.name for p in self.probes],
                  "wall_model_state": {w.name: w.model.state() for w in self.walls},
+                 "coupling_state": {c.name: c.state() for c in self.couplings},
                  "dim": self.dim, "n_fluid_initial_mass": self.fluid.initial_mass,
                  "metadata": self.metadata}
         save_checkpoint(path, arrays, attrs)
@@ -523,6 +555,9 @@ class Simulation:
                 wall.particles[name] = a
             wall.cells = self.grid.build(wall.x)
             wall.model.set_state((attrs.get("wall_model_state") or {}).get(wall.name, {}))
+        for coupling in self.couplings:
+            coupling.set_state((attrs.get("coupling_state") or {}).get(coupling.name, {}))
+            coupling.set_arrays(arrays.get(f"coupling_{coupling.name}", {}))
         fp = self.fluid.particles
         for name in list(fp.names()):
             if name not in arrays["fluid"]:

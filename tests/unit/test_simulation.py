@@ -150,3 +150,57 @@ def test_lagged_gradient_equals_exact_gradient_of_the_previous_state():
     renormalised_density_gradient(g.layout, fp["x"], fp["rho"], fp["volume"], sim.fluid_cells.start,
                                   sim.fluid_cells.order, g.lo, g.inv_cell, g.ncell, g.period, sim.physics, exact)
     assert np.allclose(lagged, exact, rtol=1e-9, atol=1e-9 * np.abs(exact).max())
+
+
+class _CountingPush(sw.coupling.Coupling):
+    """Adds a constant acceleration and counts its calls; its counter is checkpointed state."""
+
+    name = "push"
+
+    def __init__(self, acceleration):
+        self.acceleration = acceleration
+        self.steps = 0
+        self.evaluations = 0
+
+    def add_rates(self, sim, ctx):
+        self.evaluations += 1
+        sim.fluid.particles["dv"][:, 0] += self.acceleration
+
+    def after_step(self, sim, dt):
+        self.steps += 1
+
+    def state(self):
+        return {"steps": self.steps, "evaluations": self.evaluations}
+
+    def set_state(self, state):
+        self.steps = state["steps"]
+        self.evaluations = state["evaluations"]
+
+    def summary(self):
+        return {"steps": self.steps}
+
+
+def test_coupling_hooks_are_called_every_step_and_checkpointed(tmp_path):
+    plain = small_tank()
+    plain.evaluate(0.0)
+    sim = small_tank()
+    push = _CountingPush(0.5)
+    sim.couple(push)
+    sim.evaluate(0.0)
+    # the coupling's acceleration is added on top of everything else, exactly
+    assert np.allclose(sim.fluid.particles["dv"][:, 0] - plain.fluid.particles["dv"][:, 0], 0.5, atol=1e-12)
+    assert np.array_equal(sim.fluid.particles["dv"][:, 1], plain.fluid.particles["dv"][:, 1])
+    push.evaluations = 0
+    with pytest.raises(ParameterError, match="unique"):
+        sim.couple(_CountingPush(1.0))
+    result = sim.run(0.02, progress=False)
+    assert push.steps == sim.step
+    assert push.evaluations == sim.step + 1          # one evaluation per step plus the first
+    assert result.summary["couplings"]["push"]["steps"] == sim.step
+
+    path = tmp_path / "c.h5"
+    sim.save_checkpoint(str(path))
+    again = small_tank()
+    restored = _CountingPush(0.5)
+    again.couple(restored).restart(str(path))
+    assert restored.steps == push.steps and restored.evaluations == push.evaluations
