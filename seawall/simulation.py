@@ -14,6 +14,7 @@ import time as _time
 import numpy as np
 from numba import njit
 
+from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem
 from .coupling import Coupling
 from .errors import InstabilityError, ParameterError, require_positive
@@ -320,15 +321,22 @@ class Simulation:
         for wall in self.walls:
             if wall.name in self.wall_forces:
                 before = fp["dv"].copy()
-                wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
+                self._wall_acts(wall, ctx)
                 # force of the fluid on the wall = minus what the wall adds to m_i dv_i (pairwise forms)
                 self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
             else:
-                wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
+                self._wall_acts(wall, ctx)
         for coupling in self.couplings:
             coupling.add_rates(self, ctx)
         if self.fluid.density_mode == "summation":
             fp["drho"][:] = 0.0
+
+    def _wall_acts(self, wall, ctx):
+        """The wall model's terms, then the wall's adhesion (if any), added to the fluid's rates."""
+        fp = self.fluid.particles
+        wall.model.interact(self.fluid, wall, ctx, fp["dv"], fp["drho"])
+        if wall.adhesion_coefficient > 0.0:
+            add_adhesion(wall, self.fluid, ctx, self.kernel.support(self.h), fp["dv"])
 
     def _maintain(self):
         """Between steps: wrap periodic axes, remove escaped particles, reorder by cell."""

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, require_nonnegative
 from ..particles import ParticleArrays
 
 
@@ -76,11 +76,15 @@ class WallSystem:
         Prescribed velocity of the wall particles [m/s] (constant), default 0.
     movement : seawall.boundary.movement.PrescribedMotion, optional
         Prescribed motion x(t) = x0 + f(t) of (some of) the particles.
+    adhesion_coefficient : float
+        beta of the Akinci et al. (2013) fluid-wall adhesion force (seed 004;
+        see :mod:`seawall.boundary.adhesion`), default 0 (none).
     name : str
         Used in messages and output file names.
     """
 
-    def __init__(self, shape, *, model=None, velocity=None, movement=None, name="wall"):
+    def __init__(self, shape, *, model=None, velocity=None, movement=None, adhesion_coefficient=0.0,
+                 name="wall"):
         from .dummy import DummyParticles  # the default model
 
         if shape is None or getattr(shape, "positions", None) is None:
@@ -89,6 +93,7 @@ class WallSystem:
         if x.ndim != 2 or x.shape[1] not in (2, 3) or x.shape[0] == 0:
             raise ParameterError(f"wall positions must be an (N, 2) or (N, 3) array with N > 0, got {x.shape}")
         self.name = str(name)
+        self.adhesion_coefficient = require_nonnegative("adhesion_coefficient", adhesion_coefficient)
         self.dim = x.shape[1]
         self.spacing = float(shape.spacing)
         self.model = model if model is not None else DummyParticles()

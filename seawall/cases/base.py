@@ -69,6 +69,7 @@ class Case:
     def build(self, *, boundary="adami", threads=None, **overrides):
         """Build the simulation with wall model ``boundary`` (a name or a WallModel factory)."""
         boundary_options = {k: overrides.pop(k) for k in list(overrides) if k in BOUNDARY_OPTION_KEYS}
+        adhesion = boundary_options.pop("adhesion_coefficient", None)
         params = self.resolve(overrides)
 
         def wall_model():
@@ -79,6 +80,15 @@ class Case:
             return model
 
         sim = self.builder(params, wall_model, threads)
+        if adhesion is not None:
+            try:
+                beta = float(adhesion)
+            except (TypeError, ValueError):
+                raise ParameterError(f"adhesion_coefficient must be a number, got {adhesion!r}") from None
+            if not beta >= 0.0:
+                raise ParameterError(f"adhesion_coefficient must be >= 0, got {adhesion!r}")
+            for wall in getattr(sim, "walls", []):
+                wall.adhesion_coefficient = beta
         sim.metadata.update({"case": self.name, "boundary": boundary if isinstance(boundary, str) else "custom",
                              "parameters": params})
         return sim
@@ -87,7 +97,7 @@ class Case:
 #: keys of --set that belong to the wall model rather than the case
 BOUNDARY_OPTION_KEYS = {"K", "beta", "wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
                         "shepard_mu", "shepard_lambda", "sfdi_diagonal",
-                        "alpha_wall", "wall_density"}
+                        "alpha_wall", "wall_density", "adhesion_coefficient"}
 
 
 def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):

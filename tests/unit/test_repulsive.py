@@ -68,3 +68,23 @@ def test_tank_surface_and_spacing_check():
     wrong = sw.WallSystem(tank_surface((0, 0), (0.3, 0.2), DX / 2), model=MonaghanKajtar(K=1.0, beta=BETA))
     with pytest.raises(sw.ParameterError, match="dx / beta"):
         sw.Simulation([fluid, wrong], h=H, gravity=(0, -9.81))
+
+
+def test_acceleration_equals_the_formula_in_3d():
+    # one fluid particle above a square patch of surface particles at spacing dx / beta on z = 0
+    xs = np.arange(-8, 9) * D
+    patch = np.array([(a, b, 0.0) for a in xs for b in xs])
+    n = patch.shape[0]
+    wall_shape = Shape(patch, D, normals=np.tile([0.0, 0.0, 1.0], (n, 1)), surface_points=patch.copy())
+    fluid = sw.FluidSystem(Shape(np.array([[0.0013, -0.0007, DX]]), DX), eos=sw.Tait(c0=10.0), viscosity=None)
+    wall = sw.WallSystem(wall_shape, model=MonaghanKajtar(K=2.0, beta=BETA))
+    sim = sw.Simulation([fluid, wall], h=H, domain=((-0.1, -0.1, -0.05), (0.1, 0.1, 0.1)))
+    for z in (0.5 * DX, DX, 1.5 * DX):
+        sim.fluid.particles["x"][0, 2] = z
+        sim.evaluate(0.0)
+        p = np.array([0.0013, -0.0007, z])
+        m_a = sim.fluid.particles["m"][0]
+        m_b = sim.walls[0].particles["m"][0]
+        expected = sum(by_hand(p - q, 2.0, m_a, m_b, dim=3) for q in patch if np.linalg.norm(p - q) < 2 * H)
+        np.testing.assert_allclose(sim.fluid.particles["dv"][0], expected, rtol=1e-9)
+        assert sim.fluid.particles["dv"][0][2] > 0.0
