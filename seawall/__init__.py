@@ -28,5 +28,5 @@ __all__ = [
     "FluidSystem", "WallSystem", "Simulation", "RunResult", "DummyParticles",
     "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
     "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
-    "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output",
+    "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output", "coupling",
 ]

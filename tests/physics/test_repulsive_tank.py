@@ -6,7 +6,6 @@ biased because the fluid stands off a repulsive wall: P0 +12.6 %, P1 -13.6 %,
 P2 +3.8 % (means), deviations up to 31 %. Recorded in docs/boundaries.md.
 """
 
-import numpy as np
 
 from seawall.cases import build
 
