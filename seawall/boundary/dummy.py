@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..eos import eos_density, eos_pressure
-from ..errors import ParameterError, require_nonnegative
+from ..errors import ParameterError, require_nonnegative, require_positive
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .base import WallModel
@@ -266,9 +266,31 @@ class DummyParticles(WallModel):
         Clip negative wall pressure to the background pressure. Default: off
         for ``adami`` (as in seed 004), on for ``summation`` (see
         :func:`wall_summation_density` for why); ignored by the others.
+    eos : seawall.Tait | seawall.Linear, optional
+        Equation of state of the wall particles (density <-> pressure);
+        default: the fluid's (seed 004: "inherited from the fluid unless given").
+    kernel : seawall kernel, optional
+        Kernel of the fluid-wall interaction; default: the fluid's.
+    smoothing_length : float, optional
+        Smoothing length of the fluid-wall interaction [m]; default: the
+        fluid's. Its support must not exceed the fluid's, for which the
+        neighbour grid is built.
     """
 
-    def __init__(self, *, density="adami", slip="free", nu=None, clip_negative_pressure=None):
+    def __init__(self, *, density="adami", slip="free", nu=None, clip_negative_pressure=None, eos=None,
+                 kernel=None, smoothing_length=None):
+        from ..eos import EquationOfState
+        from ..kernels import Kernel
+
+        if eos is not None and not isinstance(eos, EquationOfState):
+            raise ParameterError(f"eos must be seawall.Tait or seawall.Linear, got {type(eos).__name__}")
+        if kernel is not None and not isinstance(kernel, Kernel):
+            raise ParameterError(f"kernel must be a seawall kernel, got {kernel!r}")
+        self.eos = eos
+        self.kernel = kernel
+        self.smoothing_length = None if smoothing_length is None else require_positive("smoothing_length",
+                                                                                        smoothing_length)
+        self._overrides = {}
         if density not in DENSITY_CALCULATORS:
             raise ParameterError(f"density must be one of {', '.join(DENSITY_CALCULATORS)}; got {density!r}")
         if slip not in SLIP_MODES:
@@ -283,7 +305,32 @@ class DummyParticles(WallModel):
         self._wall_nu = 0.0
         self._last_time = None
 
+    def _own_physics(self, physics):
+        """The fluid's compiled parameters with this wall's EOS / kernel / smoothing length, if given."""
+        from ..kernels import KERNELS
+
+        changes = {}
+        if self.eos is not None:
+            changes.update(eos=self.eos.kind, c0=self.eos.c0, gamma=self.eos.gamma,
+                           p_background=self.eos.background_pressure)
+        if self.kernel is not None or self.smoothing_length is not None:
+            kernel = self.kernel or next(k for k in KERNELS.values() if k.kind == physics.kernel)()
+            h = self.smoothing_length or physics.h
+            support = kernel.support(h)
+            if support * support > physics.support2 * (1.0 + 1e-12):
+                raise ParameterError(
+                    f"the wall's kernel support {support:g} m exceeds the fluid's {physics.support2 ** 0.5:g} m "
+                    "(the neighbour grid is built for the fluid): give a smaller smoothing_length")
+            changes.update(kernel=kernel.kind, h=h, sigma=kernel.sigma(h, physics.dim), support2=support * support,
+                           eta2=0.01 * h * h)
+        return changes
+
+    def _physics(self, physics):
+        return physics._replace(**self._overrides) if self._overrides else physics
+
     def prepare(self, wall, fluid, physics):
+        self._overrides = self._own_physics(physics)
+        physics = self._physics(physics)
         n = wall.n
         pa = wall.particles
         pa["p"] = np.full(n, physics.p_background)
@@ -307,7 +354,7 @@ class DummyParticles(WallModel):
         pa = wall.particles
         fp = fluid.particles
         cells = ctx.fluid_cells
-        prm = ctx.physics
+        prm = self._physics(ctx.physics)
         noslip = self.slip == "noslip"
         if self.density == "adami" or noslip:
             # the Adami pass also yields the no-slip wall velocity for every calculator
@@ -336,7 +383,7 @@ class DummyParticles(WallModel):
         dummy_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], pa["x"], pa["v"], pa["v_visc"],
                           pa["rho"], pa["p"], pa["m"], wall.cells.start, wall.cells.order,
                           wall.cells.reach_mask(g), g.lo,
-                          g.inv_cell, g.ncell, g.period, ctx.physics, self.density == "mirroring",
+                          g.inv_cell, g.ncell, g.period, self._physics(ctx.physics), self.density == "mirroring",
                           self._wall_nu, dv, drho)
 
     def state(self):

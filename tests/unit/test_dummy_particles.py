@@ -76,14 +76,14 @@ def weights(xb, xf):
     return np.array([kernel_shape(CUBIC_SPLINE, qq) if qq < 2.0 else 0.0 for qq in q])
 
 
-def gradient(xi, xb, dim):
+def gradient(xi, xb, dim, h=H):
     """grad_i W(x_i - x_b) of the cubic spline."""
     d = xi - xb
     r = np.linalg.norm(d)
-    sigma = 10.0 / (7.0 * math.pi * H ** 2) if dim == 2 else 1.0 / (math.pi * H ** 3)
-    if r == 0.0 or r >= SUPPORT:
+    sigma = 10.0 / (7.0 * math.pi * h ** 2) if dim == 2 else 1.0 / (math.pi * h ** 3)
+    if r == 0.0 or r >= 2.0 * h:
         return np.zeros(dim)
-    return sigma / H * kernel_shape_dq(CUBIC_SPLINE, r / H) * d / r
+    return sigma / h * kernel_shape_dq(CUBIC_SPLINE, r / h) * d / r
 
 
 # ----------------------------------------------------------------- Adami extrapolation
@@ -236,3 +236,36 @@ def test_every_calculator_pushes_still_water_up_in_3d(density):
     assert np.all(drho == 0.0)
     middle = first_row & (np.abs(fp["x"][:, 0]) < DX) & (np.abs(fp["x"][:, 1]) < DX)
     np.testing.assert_allclose(dv[middle, :2], 0.0, atol=1e-9 * np.abs(dv[middle, 2]).max())
+
+
+# ----------------------------------------------------------------- the wall's own EOS, kernel, h
+def test_wall_eos_is_the_fluids_unless_given():
+    sim, fluid, wall = build(sw.DummyParticles(density="adami", eos=sw.Linear(c0=30.0)), gravity=False)
+    fp = fluid.particles
+    fp["p"][:] = 900.0
+    pa = wall_update(sim, wall)
+    reached = pa["p"] > 0
+    np.testing.assert_allclose(pa["rho"][reached], RHO0 + 900.0 / 30.0 ** 2, rtol=1e-12)
+    sim, fluid, wall = build(sw.DummyParticles(density="adami"), gravity=False)
+    fluid.particles["p"][:] = 900.0
+    pa = wall_update(sim, wall)
+    np.testing.assert_allclose(pa["rho"][pa["p"] > 0], float(sw.Tait(c0=C0).density(900.0, RHO0)), rtol=1e-12)
+
+
+def test_wall_smoothing_length_of_its_own():
+    h_wall = 0.8 * H
+    sim, fluid, wall = build(sw.DummyParticles(density="mirroring", smoothing_length=h_wall))
+    fp = fluid.particles
+    fp["p"][:] = 1000.0
+    wall_update(sim, wall)
+    dv, _ = interaction(sim, wall)
+    mb = RHO0 * DX ** 2
+    for i in range(0, fp.n, 5):
+        hand = np.zeros(2)
+        for b in range(wall.n):
+            hand -= mb * 2.0 * 1000.0 / RHO0 ** 2 * gradient(fp["x"][i], wall.particles["x"][b], 2, h=h_wall)
+        np.testing.assert_allclose(dv[i], hand, rtol=1e-10, atol=1e-12)
+    with pytest.raises(sw.ParameterError, match="smoothing_length"):
+        build(sw.DummyParticles(smoothing_length=1.5 * H))
+    with pytest.raises(sw.ParameterError, match="smoothing_length"):
+        sw.DummyParticles(smoothing_length=-1.0)
