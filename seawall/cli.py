@@ -165,10 +165,12 @@ def cmd_run(args):
     sim.add(output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0))
     if args.restart:
         sim.restart(args.restart)
-    n_total = sim.fluid.n + sum(w.n for w in sim.walls)
-    print(f"seawall run {case.name}: boundary {args.boundary}, {sim.dim}D, {sim.fluid.n} fluid + "
-          f"{n_total - sim.fluid.n} wall particles, dx = {sim.fluid.spacing:g} m, t_end = {t_end:g} s -> {out}",
-          flush=True)
+    if hasattr(sim, "headline"):   # simulations without a fluid (dem-box) describe themselves
+        what = sim.headline()
+    else:
+        what = (f"boundary {args.boundary}, {sim.dim}D, {sim.fluid.n} fluid + {sum(w.n for w in sim.walls)} wall "
+                f"particles, dx = {sim.fluid.spacing:g} m")
+    print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
     status = "completed"
     error = None
     started = time.perf_counter()
