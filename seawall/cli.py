@@ -88,6 +88,9 @@ def build_parser():
     run.add_argument("--checkpoint-every", type=_positive("--checkpoint-every"),
                      help="HDF5 checkpoint interval [s] (default t_end/10)")
     run.add_argument("--restart", metavar="CHECKPOINT", help="continue from a checkpoint of the same case")
+    run.add_argument("--line", action="append", metavar="x0,y0:x1,y1:n",
+                     help="sample pressure and velocity at n points on a line every --output-every seconds "
+                          "into line_<k>.csv (repeatable; x0,y0,z0:x1,y1,z1:n in 3D)")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
 
@@ -163,6 +166,13 @@ def cmd_run(args):
     if not args.no_vtk:
         sim.add(output.VTK(out, every=args.output_every or case.output_every))
     sim.add(output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0))
+    lines = []
+    for k, text in enumerate(args.line or [], start=1):
+        from .sampling import LineSampler, parse_line
+
+        start, end, n = parse_line(text, sim.dim)
+        sim.add(LineSampler(out, start, end, n, every=args.output_every or case.output_every, name=str(k)))
+        lines.append(f"line_{k}.csv")
     if args.restart:
         sim.restart(args.restart)
     if hasattr(sim, "headline"):   # simulations without a fluid (dem-box) describe themselves
@@ -195,7 +205,7 @@ def cmd_run(args):
     if result is not None:
         summary["probes"] = _probe_summary(result)
     summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
-                        "checkpoint": "checkpoint.h5"}
+                        "checkpoint": "checkpoint.h5", **({"lines": lines} if lines else {})}
     with open(os.path.join(out, "summary.json"), "w") as fh:
         json.dump(_jsonable(summary), fh, indent=2)
     _print_summary(summary)

@@ -26,6 +26,7 @@ from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
 from .probes import Probe
+from .sampling import LineSampler
 
 
 @njit(cache=True)
@@ -267,10 +268,10 @@ class Simulation:
                         raise ParameterError(f"probe {item.name!r}: no wall named {wall_name!r}")
                     self.wall_forces.setdefault(wall_name, np.zeros(self.dim))
                 self.probes.append(item)
-            elif isinstance(item, (VTK, Checkpoint)):
+            elif isinstance(item, (VTK, Checkpoint, LineSampler)):
                 self.outputs.append(item)
             else:
-                raise ParameterError(f"cannot add {item!r}: expected a probe, VTK or Checkpoint")
+                raise ParameterError(f"cannot add {item!r}: expected a probe, VTK, Checkpoint or LineSampler")
         if every is not None:
             self.probe_every = require_positive("every", every)
         return self
@@ -450,7 +451,7 @@ class Simulation:
         if self.step == 0:
             self._sample(force=True)
             for out in self.outputs:
-                if isinstance(out, VTK):
+                if isinstance(out, (VTK, LineSampler)):
                     out.write(self)
         n_total_walls = sum(w.n for w in self.walls)
         particle_steps = 0
@@ -487,6 +488,10 @@ class Simulation:
         for out in self.outputs:
             if isinstance(out, VTK) and (not out._fluid.files or out._fluid.files[-1][0] < self.time):
                 out.write(self)
+            if isinstance(out, LineSampler):
+                if out.next_time - out.every < self.time - 1e-12:
+                    out.write(self)
+                out.close()
         summary = self.summary(wall_time=_time.perf_counter() - wall_start, loop_time=loop_time,
                                particle_steps=particle_steps, steps=self.step - steps_at_start,
                                startup=startup)
