@@ -1,8 +1,8 @@
 """Fluid fields at arbitrary points: lines and grids (pressure along a wall, velocity on a centreline).
 
 A field f is interpolated at a point x by the Shepard-normalised SPH sum
-(e.g. Monaghan 2005, sec. 2; the normalisation as in seed 001's Shepard
-interpolation):
+(seed 001, sec. 3.3, eq. 14-16 -- the "normalised" interpolation that ghost
+walls use at their mirror points, whose compiled gather this module reuses):
 
     f(x) = sum_j f_j W(x - x_j) V_j / sum_j W(x - x_j) V_j,    V_j = m_j / rho_j,
 
@@ -21,44 +21,12 @@ import csv
 import os
 
 import numpy as np
-from numba import njit, prange
 
+from .boundary.interpolation import NORMALISED, interpolate_points
 from .errors import ParameterError, require_positive
-from .kernels import kernel_shape
-from .neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 
 #: quantities that can be sampled: name -> how to get it from the fluid's arrays
 QUANTITIES = ("pressure", "density", "u", "v", "w", "speed")
-
-
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def shepard_interpolate(layout, xs, xf, values, volume, start, order, lo, inv_cell, ncell, period, prm, out):
-    """out[s, k] = sum_j values[j, k] W_sj V_j / sum_j W_sj V_j (NaN where no fluid neighbour)."""
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
-    inv_h = 1.0 / prm.h
-    nk = values.shape[1]
-    for s in prange(xs.shape[0]):
-        p0, p1, p2 = point_of(xs, s, dim)
-        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-        wsum = 0.0
-        for k in range(nk):
-            out[s, k] = 0.0
-        for row in range(nrows):
-            for part in range(2):
-                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
-                for kk in range(ka, kb):
-                    j = order[kk]
-                    d0, d1, d2, r2 = separation(p0, p1, p2, xf, j, dim, periodic, period)
-                    if r2 >= prm.support2:
-                        continue
-                    w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h) * volume[j]
-                    wsum += w
-                    for k in range(nk):
-                        out[s, k] += values[j, k] * w
-        for k in range(nk):
-            out[s, k] = out[s, k] / wsum if wsum > 0.0 else np.nan
 
 
 def interpolate(sim, points, quantities=("pressure", "u", "v")):
@@ -88,8 +56,11 @@ def interpolate(sim, points, quantities=("pressure", "u", "v")):
         cells = g.build(fp["x"])
         sub = np.ascontiguousarray(pts[inside])
         res = np.empty((sub.shape[0], len(quantities)))
-        shepard_interpolate(g.layout, sub, fp["x"], values, fp["m"] / fp["rho"], cells.start, cells.order, g.lo,
-                            g.inv_cell, g.ncell, g.period, sim.physics, res)
+        count = np.zeros(sub.shape[0], dtype=np.int64)
+        # the same gather as the ghost walls' normalised interpolation (seed 001 eq. 14-16)
+        interpolate_points(g.layout, NORMALISED, 0.0, 0.0, 0, sub, fp["x"], values, fp["m"] / fp["rho"],
+                           cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, sim.physics, res, count)
+        res[count == 0] = np.nan
         out[inside] = res
     return {q: out[:, k].copy() for k, q in enumerate(quantities)}
 
