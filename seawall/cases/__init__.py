@@ -2,13 +2,14 @@
 
 from ..errors import ParameterError
 from .base import Case, Parameter
-from .channels import CHANNEL
+from .cavity import S_CAVITY
+from .channels import CHANNEL, PIPE_3D
 from .idbc_tests import DROP_IMPACT, PARTICLE_IN_BOX
 from .moving import MOVING_WALL
 from .tanks import COLLAPSE, DAM_BREAK, DAM_BREAK_3D, HYDROSTATIC
 
 CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PARTICLE_IN_BOX, DROP_IMPACT, MOVING_WALL,
-                                CHANNEL)}
+                                CHANNEL, S_CAVITY, PIPE_3D)}
 
 
 def case_by_name(name):

@@ -190,3 +190,94 @@ def channel_profile(sim, x_range=(0.25, 0.75), axis=1):
     centres = lo + (np.arange(n) + 0.5) * dx
     with np.errstate(invalid="ignore", divide="ignore"):
         return centres, total / count, count
+
+
+def build_pipe_3d(params, wall_model, threads):
+    """Square duct |y - a|, |z - a| < a (side H = 2a) with the duct profile as reference flow."""
+    height = require_positive("height", params["height"])
+    if params["dx"] is None:
+        params["dx"] = height / 10.0
+    dx = require_positive("dx", params["dx"])
+    n_across = height / dx
+    if abs(n_across - round(n_across)) > 1e-6:
+        raise ParameterError(f"height / dx must be a whole number, got {n_across:g}")
+    length = round(require_positive("length", params["length"]) / dx) * dx
+    h = require_positive("h_factor", params["h_factor"]) * dx
+    u_max = require_positive("u_max", params["u_max"])
+    nu = u_max * height / require_positive("reynolds", params["reynolds"])
+    rho0 = require_positive("rho0", params["rho0"])
+    c0 = params["c0"] or 10.0 * u_max
+    params["c0"] = c0
+    a = 0.5 * height
+    kernel = CubicSpline()
+    model = wall_model()
+    _require_noslip(model, "pipe-3d")
+    gradient = duct_gradient(a, a, u_max, rho0 * nu)
+    fluid = FluidSystem(shapes.box((0.0, 0.0, 0.0), (length, height, height), dx), rho0=rho0,
+                        eos=Tait(c0=c0, gamma=7.0), viscosity=LaminarViscosity(nu=nu),
+                        density_diffusion=DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)
+
+    def velocity(x, t):
+        v = np.zeros_like(x)
+        v[:, 0] = duct_velocity(x[:, 1] - a, x[:, 2] - a, a, a, u_max=u_max)
+        return v
+
+    def pressure(x, t):
+        return gradient * (length - x[:, 0])
+
+    layers = params["layers"]
+    common = dict(particle_spacing=dx, density=rho0, open_boundary_layers=layers,
+                  reference_velocity=velocity, reference_pressure=pressure, flow_direction=(1.0, 0.0, 0.0))
+    inflow = InFlow(plane=((0, 0, 0), (0, height, 0), (0, 0, height)), name="inflow", **common)
+    outflow = OutFlow(plane=((length, 0, 0), (length, height, 0), (length, 0, height)), name="outflow", **common)
+    depth = layers * dx
+    buffer_size = params["buffer_size"] or 2 * inflow.positions.shape[0]
+    boundary = OpenBoundary([inflow, outflow], fluid_system=fluid, buffer_size=buffer_size)
+    nwall = wall_layers(kernel, h, dx)
+    x0, x1 = -depth, length + depth
+    duct = shapes.tank((x0, 0.0, 0.0), (x1, height, height), dx, layers=nwall, open_top=False)
+    px = duct.positions[:, 0]
+    walls = WallSystem(duct.subset((px > x0) & (px < x1)), model=model, name="duct")
+    support = kernel.support(h)
+    pad = nwall * dx + 2 * support
+    domain = ((x0 - 3 * support, -pad, -pad), (x1 + 3 * support, height + pad, height + pad))
+    sim = Simulation([fluid, walls, boundary], kernel=kernel, h=h, integrator=Symplectic(cfl=params["cfl"]),
+                     domain=domain, threads=threads)
+    sim.add(CentreVelocity("u_centre", (0.5 * length, a, a)), FluidCount(), MaxSpeed(),
+            ZoneInflow("mass_in", boundary, 0), ZoneInflow("mass_out", boundary, 1))
+    sim.open_boundary = boundary
+    sim.reference = {"type": "duct", "height": height, "length": length, "u_max": u_max, "nu": nu,
+                     "rho0": rho0, "gradient": gradient, "viscous_time": height ** 2 / nu, "a": a}
+    return sim
+
+
+def duct_profile_error(sim, x_range=(0.25, 0.75)):
+    """Largest |mean u - u_exact| over the (y, z) lanes of the duct, divided by U, and the lane means."""
+    ref = sim.reference
+    fp = sim.fluid.particles
+    x, v = fp["x"], fp["v"]
+    dx = sim.fluid.spacing
+    a = ref["a"]
+    length = ref["length"]
+    sel = (fp["zone"] < 0) & (x[:, 0] > x_range[0] * length) & (x[:, 0] < x_range[1] * length)
+    n = int(round(ref["height"] / dx))
+    ly = np.clip(np.floor(x[sel, 1] / dx).astype(np.int64), 0, n - 1)
+    lz = np.clip(np.floor(x[sel, 2] / dx).astype(np.int64), 0, n - 1)
+    lane = ly * n + lz
+    count = np.bincount(lane, minlength=n * n)
+    err = v[sel, 0] - duct_velocity(x[sel, 1] - a, x[sel, 2] - a, a, a, u_max=ref["u_max"])
+    mean_err = np.bincount(lane, weights=err, minlength=n * n) / np.maximum(count, 1)
+    mean_u = np.bincount(lane, weights=v[sel, 0], minlength=n * n) / np.maximum(count, 1)
+    return float(np.abs(mean_err[count > 0]).max() / ref["u_max"]), mean_u.reshape(n, n), count.reshape(n, n)
+
+
+PIPE_3D = Case(
+    name="pipe-3d",
+    description="laminar flow through a square duct between an inflow and an outflow zone (Lastiwka), "
+                "no-slip walls (use --boundary adami-noslip)",
+    builder=build_pipe_3d,
+    parameters={**{k: v for k, v in COMMON.items() if k != "dx"},
+                "dx": Parameter(None, "particle spacing [m] (default H / 10)"),
+                "height": Parameter(0.1, "side H of the square duct [m]"),
+                "length": Parameter(0.2, "length L between the inflow and the outflow plane [m]")},
+    t_end=4.0, probe_every=0.02, output_every=0.2, dimension=3)
