@@ -804,12 +804,16 @@ class MaxSpeed(Probe):
 
 
 class ZoneInflow(Probe):
-    """Net mass that entered the fluid through an open boundary zone so far [kg (per m in 2D)]."""
+    """Net mass that entered the fluid through an open boundary zone so far [kg (per m in 2D)].
 
-    def __init__(self, name, boundary, zone=0):
+    With ``outward=True`` the net mass that left the fluid through it (an outflow's throughput).
+    """
+
+    def __init__(self, name, boundary, zone=0, outward=False):
         super().__init__(name)
         self.boundary = boundary
         self.zone = int(zone)
+        self.sign = -1.0 if outward else 1.0
 
     def sample(self, sim):
-        return float(self.boundary.net_inflow(self.zone))
+        return float(self.sign * self.boundary.net_inflow(self.zone))

@@ -151,7 +151,7 @@ def build_channel(params, wall_model, threads):
     sim = Simulation([fluid, walls, boundary], kernel=kernel, h=h, integrator=Symplectic(cfl=params["cfl"]),
                      domain=domain, threads=threads)
     sim.add(CentreVelocity("u_centre", (0.5 * length, 0.5 * height)), FluidCount(), MaxSpeed(),
-            ZoneInflow("mass_in", boundary, 0), ZoneInflow("mass_out", boundary, 1),
+            ZoneInflow("mass_in", boundary, 0), ZoneInflow("mass_out", boundary, 1, outward=True),
             probes.Pressure("p_inlet", (2 * dx, 0.5 * height)), probes.Pressure("p_outlet", (length - 2 * dx, 0.5 * height)))
     sim.open_boundary = boundary
     sim.reference = {"type": "poiseuille", "height": height, "length": length, "u_max": u_max, "nu": nu,
@@ -244,7 +244,7 @@ def build_pipe_3d(params, wall_model, threads):
     sim = Simulation([fluid, walls, boundary], kernel=kernel, h=h, integrator=Symplectic(cfl=params["cfl"]),
                      domain=domain, threads=threads)
     sim.add(CentreVelocity("u_centre", (0.5 * length, a, a)), FluidCount(), MaxSpeed(),
-            ZoneInflow("mass_in", boundary, 0), ZoneInflow("mass_out", boundary, 1))
+            ZoneInflow("mass_in", boundary, 0), ZoneInflow("mass_out", boundary, 1, outward=True))
     sim.open_boundary = boundary
     sim.reference = {"type": "duct", "height": height, "length": length, "u_max": u_max, "nu": nu,
                      "rho0": rho0, "gradient": gradient, "viscous_time": height ** 2 / nu, "a": a}
