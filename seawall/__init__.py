@@ -21,6 +21,7 @@ from .integrators import LeapFrog, Symplectic
 from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC4
 from . import coupling, probes, output
 from .simulation import RunResult, Simulation
+from .openboundary import InFlow, Lastiwka, OpenBoundary, OutFlow
 
 __version__ = "0.1.0"
 
@@ -29,4 +30,5 @@ __all__ = [
     "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
     "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
     "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output", "coupling",
+    "OpenBoundary", "InFlow", "OutFlow", "Lastiwka",
 ]

@@ -55,6 +55,11 @@ class Coupling:
     def set_arrays(self, arrays):
         """Restore what :meth:`arrays` returned."""
 
+    def mass_added(self):
+        """Net mass this coupling put into the fluid's arrays so far (open boundaries) [kg];
+        the run summary's mass drift discounts it."""
+        return 0.0
+
     def summary(self):
         """Entries for summary.json (JSON-compatible)."""
         return {}

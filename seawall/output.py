@@ -45,7 +45,8 @@ class VTK:
         fp = sim.fluid.particles
         self._fluid.write(sim.time, fp["x"], {
             "velocity": fp["v"], "pressure": fp["p"] - sim.physics.p_background,
-            "density": fp["rho"], "mass": fp["m"], "id": fp["id"]})
+            "density": fp["rho"], "mass": fp["m"], "id": fp["id"],
+            **({"zone": fp["zone"]} if "zone" in fp else {})})
         for wall in sim.walls:
             series = self._wall_series.get(wall.name)
             if series is None or (series.files and not sim.wall_moves(wall)):

@@ -62,5 +62,39 @@ class ParticleArrays:
                 self._arrays[name] = np.ascontiguousarray(a[mask])
         return removed
 
+    def append(self, count, **values):
+        """Append ``count`` zero-filled rows to every array at once, then set those given as keywords.
+
+        Returns the indices of the new rows.
+        """
+        n_old = self.n
+        unknown = set(values) - set(self._arrays)
+        if unknown:
+            raise ValueError(f"no array named {sorted(unknown)[0]!r}")
+        for name, a in self._arrays.items():
+            new = np.zeros((int(count),) + a.shape[1:], dtype=a.dtype)
+            if name in values:
+                new[...] = values[name]
+            self._arrays[name] = np.ascontiguousarray(np.concatenate([a, new]))
+        return np.arange(n_old, n_old + int(count))
+
+    def append_rows(self, source, **values):
+        """Append copies of the rows ``source`` (index array) to every array at once.
+
+        Keyword arrays overwrite the copied values of the new rows (one row per
+        source index). Returns the indices of the new rows.
+        """
+        source = np.asarray(source, dtype=np.int64)
+        n_old = self.n
+        unknown = set(values) - set(self._arrays)
+        if unknown:
+            raise ValueError(f"no array named {sorted(unknown)[0]!r}")
+        for name, a in self._arrays.items():
+            new = a[source].copy()
+            if name in values:
+                new[...] = values[name]
+            self._arrays[name] = np.ascontiguousarray(np.concatenate([a, new]))
+        return np.arange(n_old, n_old + source.size)
+
     def as_dict(self):
         return dict(self._arrays)

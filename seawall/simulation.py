@@ -501,6 +501,7 @@ class Simulation:
         fp = self.fluid.particles
         mass_now = float(fp["m"].sum())
         initial = self.fluid.initial_mass
+        added = float(sum(c.mass_added() for c in self.couplings))  # open boundaries add and remove particles
         return {
             **self.metadata,
             "dimension": self.dim,
@@ -513,7 +514,7 @@ class Simulation:
             "startup_s": float(startup),
             "particle_steps_per_s": float(particle_steps / loop_time) if loop_time > 0 else 0.0,
             "escaped_particles": len(self.escaped),
-            "mass_drift": float((mass_now + self.escaped_mass - initial) / initial),
+            "mass_drift": float((mass_now + self.escaped_mass - initial - added) / initial),
             "fluid_mass_in_domain_change": float((mass_now - initial) / initial),
             "kernel": self.kernel.name,
             "h": self.h,
