@@ -16,6 +16,7 @@ from numba import njit
 
 from .boundary.base import EvaluationContext, WallSystem
 from .coupling import Coupling
+from .diagnostics import escaped_where
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
@@ -266,10 +267,11 @@ class Simulation:
                         raise ParameterError(f"probe {item.name!r}: no wall named {wall_name!r}")
                     self.wall_forces.setdefault(wall_name, np.zeros(self.dim))
                 self.probes.append(item)
-            elif isinstance(item, (VTK, Checkpoint)):
+            elif isinstance(item, (VTK, Checkpoint)) or all(hasattr(item, a) for a in ("open", "due", "write")):
+                # any output callback with open(sim, resume_after) / due(t) / write(sim), e.g. LineSampler
                 self.outputs.append(item)
             else:
-                raise ParameterError(f"cannot add {item!r}: expected a probe, VTK or Checkpoint")
+                raise ParameterError(f"cannot add {item!r}: expected a probe, VTK, Checkpoint or LineSampler")
         if every is not None:
             self.probe_every = require_positive("every", every)
         return self
@@ -500,6 +502,7 @@ class Simulation:
             "startup_s": float(startup),
             "particle_steps_per_s": float(particle_steps / loop_time) if loop_time > 0 else 0.0,
             "escaped_particles": len(self.escaped),
+            "escaped_where": escaped_where(self.escaped, self.grid),
             "mass_drift": float((mass_now + self.escaped_mass - initial) / initial),
             "fluid_mass_in_domain_change": float((mass_now - initial) / initial),
             "kernel": self.kernel.name,
