@@ -32,6 +32,7 @@ from numba import njit, prange
 from .errors import ParameterError
 from .kernels import kernel_shape
 from .neighbors import cell_index, neighbour_range, separation, tag_dim, tag_periodic
+from .probes import Probe
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
@@ -263,3 +264,28 @@ def read_line_csv(path):
     rows = rows[: (rows.shape[0] // n_points) * n_points]
     times = rows[::n_points, 0]
     return times, {h: rows[:, c].reshape(-1, n_points) for c, h in enumerate(header)}
+
+
+
+class FieldProbe(Probe):
+    """Probe: one interpolated fluid field at a fixed point, e.g. ``FieldProbe("u_c", (0.5, 0.5), "u")``.
+
+    ``field`` is a column name of :func:`interpolate`: ``u``, ``v``, ``w``,
+    ``p`` (gauge), ``rho`` or another scalar fluid array. NaN where no fluid is near.
+    """
+
+    def __init__(self, name, point, field):
+        super().__init__(name)
+        self.point = np.asarray(point, dtype=np.float64)
+        if self.point.ndim != 1 or self.point.size not in (2, 3):
+            raise ParameterError(f"probe {name!r}: point must have 2 or 3 coordinates, got {point!r}")
+        self.field = str(field)
+        key = {"u": "v", "v": "v", "w": "v"}.get(self.field, FIELD_ALIASES.get(self.field, self.field))
+        self._request = (key,)
+
+    def sample(self, sim):
+        res = interpolate(sim, self.point[None, :], self._request)
+        if self.field not in res:
+            raise ParameterError(f"probe {self.name!r}: no interpolated field {self.field!r}; "
+                                 f"available: {', '.join(k for k in res if k != 'weight')}")
+        return float(res[self.field][0])

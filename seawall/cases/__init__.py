@@ -2,11 +2,13 @@
 
 from ..errors import ParameterError
 from .base import Case, Parameter
+from .flows import COUETTE, ELLIPTICAL_DROP, POISEUILLE, TAYLOR_GREEN
 from .idbc_tests import DROP_IMPACT, PARTICLE_IN_BOX
 from .moving import MOVING_WALL
 from .tanks import COLLAPSE, DAM_BREAK, DAM_BREAK_3D, HYDROSTATIC
 
 CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PARTICLE_IN_BOX, DROP_IMPACT, MOVING_WALL)}
+CASES.update({c.name: c for c in (POISEUILLE, COUETTE, TAYLOR_GREEN, ELLIPTICAL_DROP)})
 
 
 def case_by_name(name):
