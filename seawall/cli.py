@@ -1,4 +1,4 @@
-"""Command line: ``seawall cases | boundaries | run | compare | plot | bench``.
+"""Command line: ``seawall cases | boundaries | run | compare | validate | plot | bench``.
 
 The output files of ``run`` (probes.csv, summary.json, the VTU/PVD series)
 and the JSON line of ``bench`` are a contract other tools rely on: columns
@@ -93,6 +93,8 @@ def build_parser():
                           "into line_<k>.csv (repeatable; x0,y0,z0:x1,y1,z1:n in 3D)")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    run.add_argument("--diagnostics", action="store_true",
+                     help="also record the smallest fluid-to-wall distance (probe min_wall_distance_dx)")
 
     comp = sub.add_parser("compare", help="run a case with several wall models; write compare.md/.csv and plots")
     comp.add_argument("case")
@@ -102,6 +104,15 @@ def build_parser():
     comp.add_argument("--out", help="output directory (default runs/compare-CASE)")
     comp.add_argument("--jobs", type=_positive_int("--jobs"), help="models run at once (default: cores)")
     comp.add_argument("--set", action="append", metavar="KEY=VALUE", help="case parameter, given to every model")
+
+    val = sub.add_parser("validate", help="run the validation entries and write docs/validation.md")
+    val.add_argument("names", nargs="*", metavar="NAME", help="entries to run (default: all; see --list)")
+    val.add_argument("--list", action="store_true", help="list the entries with their expected durations")
+    val.add_argument("--quick", action="store_true",
+                     help="coarse, short runs (a smoke test; results go to runs/validate-quick unless --results)")
+    val.add_argument("--results", help="directory of the per-entry JSON results (default validation/out/validate)")
+    val.add_argument("--doc", help="markdown file to (re)generate (default docs/validation.md)")
+    val.add_argument("--threads", type=_positive_int("--threads"), help="threads of the compiled loops")
 
     plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
     plot.add_argument("run_dir")
@@ -173,6 +184,10 @@ def cmd_run(args):
         start, end, n = parse_line(text, sim.dim)
         sim.add(LineSampler(out, start, end, n, every=args.output_every or case.output_every, name=str(k)))
         lines.append(f"line_{k}.csv")
+    if args.diagnostics:
+        from .compare import MinWallDistance
+
+        sim.add(MinWallDistance())
     if args.restart:
         sim.restart(args.restart)
     if hasattr(sim, "headline"):   # simulations without a fluid (dem-box) describe themselves
@@ -204,8 +219,11 @@ def cmd_run(args):
         summary["error"] = error
     if result is not None:
         summary["probes"] = _probe_summary(result)
+        summary["diagnostics"] = _diagnostics(sim, result)
+    _write_escaped(os.path.join(out, "escaped.csv"), sim)
     summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
-                        "checkpoint": "checkpoint.h5", **({"lines": lines} if lines else {})}
+                        "checkpoint": "checkpoint.h5", "escaped": "escaped.csv",
+                        **({"lines": lines} if lines else {})}
     with open(os.path.join(out, "summary.json"), "w") as fh:
         json.dump(_jsonable(summary), fh, indent=2)
     _print_summary(summary)
@@ -227,6 +245,35 @@ def _probe_summary(result):
     return out
 
 
+def _diagnostics(sim, result):
+    """Run diagnostics for summary.json: wall-pressure noise per WallPressure probe, smallest wall distance."""
+    import numpy as np
+
+    from .diagnostics import pressure_noise
+    from .probes import WallPressure
+
+    noise = {p.name: pressure_noise(result.times, result.probes[p.name])
+             for p in sim.probes if isinstance(p, WallPressure)}
+    out = {"wall_pressure_noise_pa": noise,
+           "wall_pressure_noise_definition": "RMS of p minus its running mean over 0.05 s (seawall.diagnostics)"}
+    if "min_wall_distance_dx" in result.probes:
+        d = result.probes["min_wall_distance_dx"]
+        out["min_wall_distance_dx"] = float(np.nanmin(d)) if d.size and np.isfinite(d).any() else None
+    return out
+
+
+def _write_escaped(path, sim):
+    """escaped.csv: time, id, position at removal and the face of the domain crossed, one row per particle."""
+    from .diagnostics import escape_sides
+
+    coords = ["x", "y", "z"][:sim.dim]
+    with open(path, "w") as fh:
+        fh.write(",".join(["time", "id", *coords, "side"]) + "\n")
+        for rec, side in zip(sim.escaped, escape_sides(sim.escaped, sim.grid)):
+            fh.write(",".join([f"{rec[0]:.9g}", str(int(rec[1])), *(f"{c:.9g}" for c in rec[2:2 + sim.dim]), side])
+                     + "\n")
+
+
 def _jsonable(obj):
     if isinstance(obj, dict):
         return {str(k): _jsonable(v) for k, v in obj.items()}
@@ -244,7 +291,9 @@ def _print_summary(s):
     print(f"  particles     {s['n_fluid']} fluid, {s['n_wall']} wall ({s['dimension']}D)")
     print(f"  wall time     {s['wall_time_s']:.1f} s ({s.get('startup_s', 0.0):.1f} s start-up incl. compilation)")
     print(f"  speed         {s['particle_steps_per_s'] / 1e6:.3f} M particle-steps/s")
-    print(f"  escaped       {s['escaped_particles']} particles;  mass drift {s['mass_drift']:.2e}")
+    where = (s.get("escaped_where") or {}).get("by_side") or {}
+    sides = f" ({', '.join(f'{k}: {v}' for k, v in sorted(where.items()))})" if where else ""
+    print(f"  escaped       {s['escaped_particles']} particles{sides};  mass drift {s['mass_drift']:.2e}")
     for name, p in (s.get("probes") or {}).items():
         if p["max"] is None:
             continue
@@ -261,6 +310,13 @@ def cmd_compare(args):
                    jobs=args.jobs)
     print(open(os.path.join(out, "compare.md")).read())
     return 0 if all(r["status"] == "completed" for r in rows) else EXIT_UNSTABLE
+
+
+def cmd_validate(args):
+    from .validation import run_validate
+
+    return run_validate(args.names, quick=args.quick, results=args.results, doc=args.doc, threads=args.threads,
+                        list_only=args.list)
 
 
 def cmd_plot(args):
@@ -319,7 +375,8 @@ def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
-                "plot": cmd_plot, "compare": cmd_compare}
+                "plot": cmd_plot, "compare": cmd_compare,
+                "validate": cmd_validate}
     try:
         return handlers[args.command](args)
     except ParameterError as exc:

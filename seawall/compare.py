@@ -36,6 +36,7 @@ import multiprocessing
 import numpy as np
 from numba import njit, prange
 
+from .diagnostics import pressure_noise
 from .errors import ParameterError
 from .probes import Probe, WallPressure
 
@@ -165,18 +166,9 @@ def metrics(case_name, sim, times, probes, summary):
                 errs.append(abs(float(np.mean(probes[name][late])) - exact) / scale)
         m["wall_pressure_error"] = float(np.mean(errs)) if errs else None
     m["pressure_noise"] = None
-    if wall_probes and scale and len(times) > 4:
-        dt = float(np.median(np.diff(times)))
-        window = max(3, int(round(0.05 / dt)) | 1)
-        noise = []
-        for name in wall_probes:
-            p = np.asarray(probes[name], dtype=float)
-            if p.size <= window:
-                continue
-            running = np.convolve(p, np.ones(window) / window, mode="same")
-            half = window // 2
-            core = slice(half, p.size - half)
-            noise.append(float(np.sqrt(np.mean((p[core] - running[core]) ** 2))) / scale)
+    if wall_probes and scale:
+        noise = [pressure_noise(times, probes[name]) for name in wall_probes]
+        noise = [n / scale for n in noise if n is not None]
         m["pressure_noise"] = float(np.mean(noise)) if noise else None
     m["f_sym"] = float(probes["f_sym"][-1]) if "f_sym" in probes and len(probes["f_sym"]) else None
     m["energy_drift"] = None
@@ -218,7 +210,9 @@ def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, job
     if len(set(boundaries)) != len(boundaries):
         raise ParameterError("--boundaries lists a model twice")
     os.makedirs(out, exist_ok=True)
-    cores = os.cpu_count() or 1
+    import numba
+
+    cores = min(os.cpu_count() or 1, numba.config.NUMBA_NUM_THREADS)   # NUMBA_NUM_THREADS caps the threads
     jobs = max(1, min(jobs or cores, len(boundaries), cores))
     threads = max(1, cores // jobs)
     params = dict(params or {})

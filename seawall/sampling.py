@@ -24,6 +24,7 @@ import numpy as np
 
 from .boundary.interpolation import NORMALISED, interpolate_points
 from .errors import ParameterError, require_positive
+from .probes import Probe
 
 #: quantities that can be sampled: name -> how to get it from the fluid's arrays
 QUANTITIES = ("pressure", "density", "u", "v", "w", "speed")
@@ -153,3 +154,22 @@ class LineSampler:
         if self._fh is not None:
             self._fh.close()
             self._fh = None
+
+
+class FieldProbe(Probe):
+    """Probe: one interpolated fluid quantity at a fixed point, e.g. ``FieldProbe("u_c", (0.5, 0.5), "u")``.
+
+    ``quantity`` is one of :data:`QUANTITIES`; NaN where no fluid is near.
+    """
+
+    def __init__(self, name, point, quantity):
+        super().__init__(name)
+        self.point = np.asarray(point, dtype=np.float64)
+        if self.point.ndim != 1 or self.point.size not in (2, 3):
+            raise ParameterError(f"probe {name!r}: point must have 2 or 3 coordinates, got {point!r}")
+        if quantity not in QUANTITIES:
+            raise ParameterError(f"probe {name!r}: unknown quantity {quantity!r}; available: {', '.join(QUANTITIES)}")
+        self.quantity = quantity
+
+    def sample(self, sim):
+        return float(interpolate(sim, self.point[None, :], (self.quantity,))[self.quantity][0])

@@ -17,6 +17,7 @@ from numba import njit
 from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem
 from .coupling import Coupling
+from .diagnostics import escaped_where
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
@@ -514,6 +515,7 @@ class Simulation:
             "startup_s": float(startup),
             "particle_steps_per_s": float(particle_steps / loop_time) if loop_time > 0 else 0.0,
             "escaped_particles": len(self.escaped),
+            "escaped_where": escaped_where(self.escaped, self.grid),
             "mass_drift": float((mass_now + self.escaped_mass - initial - added) / initial),
             "fluid_mass_in_domain_change": float((mass_now - initial) / initial),
             "kernel": self.kernel.name,

@@ -1,0 +1,322 @@
+"""``seawall validate``: validation entries, their stored results and docs/validation.md.
+
+An *entry* is one module in ``seawall/validation/entries/`` that defines
+``ENTRY = Entry(...)``: a name, a title, the expected duration of its full
+run, and ``run(ctx)`` returning rows (case, quantity, reference, reference
+value, seawall value, error, tolerance, pass/fail) and plots. Modules there
+are discovered automatically, so adding an entry is adding one file.
+
+``seawall validate [NAME ...]`` runs the named entries (default: all) at their
+stated resolution, stores each entry's result as ``validation/out/validate/<name>.json``
+(committed) and regenerates ``docs/validation.md`` from *all* stored results,
+so one entry can be re-run without re-running the others. Every number in
+the markdown comes from a stored result, which records the command that
+produced it, the git commit and the date.
+
+Tolerances are part of each entry's source, fixed before its result is seen;
+a row that misses its tolerance is reported as ``fail``, never tuned.
+"""
+
+import datetime
+import importlib
+import json
+import math
+import os
+import pkgutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+
+from ..errors import ParameterError
+
+PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(PACKAGE_DIR))
+DATA = os.path.join(ROOT, "data")
+DEFAULT_RESULTS = os.path.join(ROOT, "validation", "out", "validate")
+DEFAULT_DOC = os.path.join(ROOT, "docs", "validation.md")
+QUICK_DIR = os.path.join("runs", "validate-quick")
+
+
+@dataclass
+class Entry:
+    """One validation entry.
+
+    ``run(ctx)`` receives a :class:`Context` and returns a dict with ``rows``
+    (list of :func:`row` dicts), optionally ``plots`` (PNG paths written with
+    ``ctx.plot_path``), ``settings`` (one line: resolution, model, end time)
+    and ``notes`` (list of sentences).
+    """
+
+    name: str
+    title: str
+    run: object
+    expected_s: float            # duration of the full run on one core of the reference machine [s]
+    order: int = 100             # position in docs/validation.md
+    description: str = ""
+    quick_s: float = 30.0
+
+    @property
+    def command(self):
+        return f"seawall validate {self.name}"
+
+
+@dataclass
+class Context:
+    quick: bool
+    img_dir: str
+    threads: int = None
+    data_dir: str = DATA
+    plots: list = field(default_factory=list)
+
+    def data(self, folder, name):
+        import numpy as np
+
+        return np.loadtxt(os.path.join(self.data_dir, folder, name), delimiter=",", skiprows=1)
+
+    def plot_path(self, name, suffix=""):
+        os.makedirs(self.img_dir, exist_ok=True)
+        path = os.path.join(self.img_dir, f"validation_{name}{suffix}.png")
+        self.plots.append(path)
+        return path
+
+
+def row(case, quantity, reference, ref_value, value, *, error=None, kind="relative", tolerance, unit="",
+        passed=None, fmt="{:.4g}"):
+    """One table row. ``kind``: ``relative`` (error = (value - ref) / ref unless given), ``absolute``
+    (value - ref), ``"% of <scale>"`` (error given as a fraction of a named scale) or a free text describing ``error``. ``passed`` defaults to |error| <= tolerance."""
+    if error is None and value is not None and ref_value is not None:
+        error = (value - ref_value) / ref_value if kind == "relative" else value - ref_value
+    if passed is None:
+        passed = error is not None and math.isfinite(error) and abs(error) <= tolerance
+    return {"case": case, "quantity": quantity, "reference": reference, "reference_value": ref_value,
+            "value": value, "error": error, "error_kind": kind, "tolerance": tolerance, "unit": unit,
+            "pass": bool(passed), "format": fmt}
+
+
+def all_entries():
+    """All entries, discovered in seawall/validation/entries/, sorted by order then name."""
+    pkg = importlib.import_module(f"{__name__}.entries")
+
+    found = {}
+    for info in pkgutil.iter_modules(pkg.__path__):
+        module = importlib.import_module(f"{pkg.__name__}.{info.name}")
+        entry = getattr(module, "ENTRY", None)
+        if isinstance(entry, Entry):
+            if entry.name in found:
+                raise ParameterError(f"two validation entries are named {entry.name!r}")
+            found[entry.name] = entry
+    return dict(sorted(found.items(), key=lambda kv: (kv[1].order, kv[0])))
+
+
+def _git_commit():
+    try:
+        out = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
+                             timeout=10)
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "seawall"], cwd=ROOT,
+                               capture_output=True, text=True, timeout=10)
+        if out.returncode == 0:
+            return out.stdout.strip() + ("+local changes" if dirty.stdout.strip() else "")
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return None
+
+
+def _fmt_duration(s):
+    return f"{s / 60:.1f} min" if s >= 90 else f"{s:.0f} s"
+
+
+def run_entry(entry, *, quick, results, img_dir, threads=None):
+    """Run one entry, store ``results/<name>.json`` and return the stored dict."""
+    import numba
+
+    if threads is not None:
+        numba.set_num_threads(int(threads))
+    ctx = Context(quick=quick, img_dir=img_dir, threads=threads)
+    started = time.perf_counter()
+    out = entry.run(ctx)
+    duration = time.perf_counter() - started
+    rows = out.get("rows", [])
+    stored = {
+        "name": entry.name, "title": entry.title, "description": entry.description,
+        "command": entry.command + (" --quick" if quick else ""),
+        "quick": quick, "commit": _git_commit(), "date": datetime.date.today().isoformat(),
+        "duration_s": round(duration, 1), "threads": numba.get_num_threads(),
+        "settings": out.get("settings", ""), "notes": out.get("notes", []),
+        "rows": rows,
+        # relative to the repository root, so the stored result does not depend on this machine
+        "plots": [os.path.relpath(os.path.abspath(p), ROOT) for p in (out.get("plots") or ctx.plots)],
+    }
+    os.makedirs(results, exist_ok=True)
+    with open(os.path.join(results, f"{entry.name}.json"), "w") as fh:
+        json.dump(_plain(stored), fh, indent=1)
+    return stored
+
+
+def _plain(obj):
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if hasattr(obj, "item"):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def load_results(results):
+    """Stored results in ``results`` (name -> dict)."""
+    out = {}
+    if os.path.isdir(results):
+        for fname in sorted(os.listdir(results)):
+            if fname.endswith(".json"):
+                with open(os.path.join(results, fname)) as fh:
+                    data = json.load(fh)
+                out[data["name"]] = data
+    return out
+
+
+def _cell(value, fmt):
+    if value is None:
+        return "n/a"
+    if isinstance(value, str):
+        return value
+    return fmt.format(value)
+
+
+def _error_cell(r):
+    e = r["error"]
+    if e is None:
+        return "n/a"
+    kind = r["error_kind"]
+    if kind == "relative":
+        return f"{100 * e:+.2f} %"
+    if kind == "absolute":
+        return f"{e:+.4g}{(' ' + r['unit']) if r['unit'] else ''}"
+    if kind.startswith("% of "):
+        return f"{100 * e:+.2f} {kind}"
+    return f"{e:.4g} ({kind})"
+
+
+def _tolerance_cell(r):
+    t = r["tolerance"]
+    kind = r["error_kind"]
+    if isinstance(t, str):
+        return t
+    if kind == "relative":
+        return f"{100 * t:g} %"
+    if kind == "absolute":
+        return f"{t:g}{(' ' + r['unit']) if r['unit'] else ''}"
+    if kind.startswith("% of "):
+        return f"{100 * t:g} {kind}"
+    return f"{t:g} ({kind})"
+
+
+def write_markdown(doc, stored, registry, *, title_note=""):
+    """docs/validation.md from the stored results (entries without a result are listed as not run)."""
+    doc_dir = os.path.dirname(os.path.abspath(doc))
+    lines = ["# Validation", "",
+             "Generated by `seawall validate` from the stored per-entry results in "
+             "`validation/out/validate/*.json`; do not edit by hand. Re-run one entry with "
+             "`seawall validate NAME` (its rows are replaced, the others kept), all with `seawall validate`. "
+             "Each section names the command, commit and date that produced its numbers; "
+             "tolerances are fixed in the entry's source (`seawall/validation/entries/`) before the result "
+             "is seen, and a miss is reported as **fail**, never tuned away.", ""]
+    if title_note:
+        lines += [title_note, ""]
+    names = list(registry) + [n for n in stored if n not in registry]
+    lines += ["| entry | case | quantity | reference | reference value | seawall | error | tolerance | result |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for name in names:
+        res = stored.get(name)
+        if res is None:
+            lines.append(f"| {name} | | | | | | | | not run |")
+            continue
+        for r in res["rows"]:
+            fmt = r.get("format", "{:.4g}")
+            unit = f" {r['unit']}" if r["unit"] and not isinstance(r["value"], str) else ""
+            lines.append("| " + " | ".join([
+                f"[{name}](#{name})", r["case"], r["quantity"], r["reference"],
+                _cell(r["reference_value"], fmt) + (unit if r["reference_value"] is not None else ""),
+                _cell(r["value"], fmt) + (unit if r["value"] is not None else ""),
+                _error_cell(r), _tolerance_cell(r), "pass" if r["pass"] else "**fail**"]) + " |")
+    n_rows = sum(len(stored[n]["rows"]) for n in names if n in stored)
+    n_pass = sum(r["pass"] for n in names if n in stored for r in stored[n]["rows"])
+    lines += ["", f"{n_pass} of {n_rows} rows pass.", ""]
+    for name in names:
+        entry = registry.get(name)
+        res = stored.get(name)
+        lines += [f"## {name}", ""]
+        title = res["title"] if res else entry.title
+        lines += [f"**{title}**", ""]
+        desc = res.get("description") if res else entry.description
+        if desc:
+            lines += [desc, ""]
+        if res is None:
+            lines += [f"Not run yet: `{entry.command}` (about {_fmt_duration(entry.expected_s)}).", ""]
+            continue
+        lines += [f"- command: `{res['command']}`",
+                  f"- commit {res['commit'] or 'unknown'}, {res['date']}, {_fmt_duration(res['duration_s'])} "
+                  f"with {res['threads']} thread(s)" + (" (quick smoke run, not a validation)" if res["quick"] else ""),
+                  f"- settings: {res['settings']}" if res["settings"] else "", ""]
+        for note in res.get("notes", []):
+            lines += [note, ""]
+        for plot in res.get("plots", []):
+            rel = os.path.relpath(os.path.join(ROOT, plot), doc_dir)
+            lines += [f"![{name}]({rel})", ""]
+    text = "\n".join(ln for k, ln in enumerate(lines) if not (ln == "" and k > 0 and lines[k - 1] == "")) + "\n"
+    os.makedirs(doc_dir, exist_ok=True)
+    with open(doc, "w") as fh:
+        fh.write(text)
+    return doc
+
+
+def run_validate(names=None, *, quick=False, results=None, doc=None, threads=None, list_only=False):
+    """The ``seawall validate`` command. Exit code 0 when every entry ran (a failed row is a result,
+    not an error), 1 when an entry could not run."""
+    registry = all_entries()
+    if list_only:
+        width = max(len(n) for n in registry)
+        for name, e in registry.items():
+            print(f"{name:<{width}}  ~{_fmt_duration(e.quick_s if quick else e.expected_s):>8}  {e.title}")
+        return 0
+    names = list(names or registry)
+    unknown = [n for n in names if n not in registry]
+    if unknown:
+        raise ParameterError(f"unknown validation entry {unknown[0]!r}; available: {', '.join(registry)}")
+    if quick:
+        base = results or os.path.join(QUICK_DIR, "results")
+        results = base
+        doc = doc or os.path.join(QUICK_DIR, "validation.md")
+        img_dir = os.path.join(os.path.dirname(os.path.abspath(doc)), "img")
+    else:
+        results = results or DEFAULT_RESULTS
+        doc = doc or DEFAULT_DOC
+        img_dir = os.path.join(os.path.dirname(os.path.abspath(doc)), "img")
+    total = sum((registry[n].quick_s if quick else registry[n].expected_s) for n in names)
+    print(f"seawall validate: {len(names)} entr{'y' if len(names) == 1 else 'ies'}, expected about "
+          f"{_fmt_duration(total)} in total (one core; less with more)", flush=True)
+    for n in names:
+        e = registry[n]
+        print(f"  {n:<18} ~{_fmt_duration(e.quick_s if quick else e.expected_s):>8}  {e.title}", flush=True)
+    status = 0
+    for n in names:
+        e = registry[n]
+        print(f"\n[{n}] {e.title}: expected about {_fmt_duration(e.quick_s if quick else e.expected_s)}", flush=True)
+        try:
+            res = run_entry(e, quick=quick, results=results, img_dir=img_dir, threads=threads)
+        except Exception as exc:  # one broken entry must not lose the others' results
+            print(f"[{n}] failed to run: {type(exc).__name__}: {exc}", file=sys.stderr, flush=True)
+            status = 1
+            continue
+        for r in res["rows"]:
+            print(f"  {r['quantity']:<45} {_cell(r['value'], r.get('format', '{:.4g}')):>10} vs "
+                  f"{_cell(r['reference_value'], r.get('format', '{:.4g}')):>10}  error {_error_cell(r):>10}  "
+                  f"tol {_tolerance_cell(r):>8}  {'pass' if r['pass'] else 'FAIL'}", flush=True)
+        print(f"[{n}] done in {_fmt_duration(res['duration_s'])}", flush=True)
+    write_markdown(doc, load_results(results), registry,
+                   title_note="Quick smoke run (coarse, short): these are not validation results."
+                   if quick else "")
+    print(f"\nwrote {doc}")
+    return status

@@ -1,0 +1,1 @@
+"""Validation entries: one module per entry, each defining ENTRY (see seawall.validation)."""
