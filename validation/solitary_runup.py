@@ -10,45 +10,30 @@ wall (``RunUp`` probe: top face of the highest particle within 2 dx of the
 wall) above the still level, over the run until the crest has reached the wall
 and come back (crest arrival + 4 / (k c)). R/d is compared with the solid curve
 of Chan & Street (interpolated) and the nearest experimental points
-(|Delta H/d| <= 0.02). Writes validation/out/solitary_runup.csv, the table in
+(|Delta H/d| <= 0.02); ``seawall validate solitary-runup`` runs the same
+(adami, d/15) against a stated tolerance. Writes validation/out/solitary_runup.csv, the table in
 docs/waves_runup.md and docs/img/solitary_runup.png.
 """
 
 import argparse
 import csv
 import os
-import time
 
 import numpy as np
 
+from seawall.validation.entries import solitary_runup as entry
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-DATA = os.path.join(ROOT, "data", "chan_street1970_solitary_runup_wall")
 OUT = os.path.join(HERE, "out")
 DOCS = os.path.join(ROOT, "docs")
-D = 0.25
-
-
-def run_one(model, hd, n, threads):
-    from seawall.cases import build
-
-    sim = build("solitary-runup", boundary=model, depth=D, height=hd * D, dx=D / n, length=10 * D,
-                wall_height=3 * D, gauges="", threads=threads)
-    sim.add(every=0.005)
-    paddle = sim.reference["paddle"]
-    t_end = paddle.crest_arrival(10 * D) + 4.0 / (paddle.k * paddle.c)
-    t0 = time.perf_counter()
-    res = sim.run(t_end, progress=False)
-    runup = res["runup"]
-    return {"model": model, "H_over_d": hd, "n": n, "R_over_d": float(np.nanmax(runup)) / D,
-            "t_max": float(res.times[int(np.nanargmax(runup))]), "wall_s": time.perf_counter() - t0,
-            "escaped": res.summary["escaped_particles"]}
 
 
 def reference():
-    curve = np.loadtxt(os.path.join(DATA, "chan_street1970_numerical_curve.csv"), delimiter=",", skiprows=1)
-    exp = np.loadtxt(os.path.join(DATA, "chan_street1970_experiment.csv"), delimiter=",", skiprows=1)
-    return curve[np.argsort(curve[:, 0])], exp
+    def load(folder, name):
+        return np.loadtxt(os.path.join(ROOT, "data", folder, name), delimiter=",", skiprows=1)
+
+    return entry.reference(load)
 
 
 def main(argv=None):
@@ -64,7 +49,7 @@ def main(argv=None):
     path = os.path.join(OUT, "solitary_runup.csv")
     for model in args.models:
         for hd in args.hd:
-            r = run_one(model, hd, args.n, args.threads)
+            r = entry.run_one(model, hd, args.n, args.threads)
             r["R_curve"] = float(np.interp(hd, curve[:, 0], curve[:, 1]))
             near = exp[np.abs(exp[:, 0] - hd) <= 0.02 + 1e-9, 1]
             r["R_exp"] = float(near.mean()) if near.size else float("nan")
