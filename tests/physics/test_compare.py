@@ -32,3 +32,19 @@ def test_compare_hydrostatic_table(tmp_path, capsys):
     assert "wall models compared" in printed
     for model in MODELS:
         assert (out / model / "probes.csv").exists() and (out / model / "summary.json").exists()
+
+
+def test_compare_every_wall_model_fills_every_cell(tmp_path):
+    """Every registered wall model (new ones included automatically) gets a complete row."""
+    from seawall.boundary.registry import BOUNDARIES
+
+    out = tmp_path / "all"
+    code = main(["compare", "hydrostatic", "--boundaries", ",".join(BOUNDARIES), "--dx", "0.04", "--t-end", "0.3",
+                 "--out", str(out)])
+    assert code == 0
+    rows = list(csv.DictReader(open(out / "compare.csv")))
+    assert [r["boundary"] for r in rows] == list(BOUNDARIES)
+    for row in rows:
+        assert row["status"] == "completed", row["boundary"]
+        for key in ALWAYS:
+            assert row[key] != "", (row["boundary"], key)
