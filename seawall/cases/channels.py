@@ -101,10 +101,11 @@ COMMON = {
 }
 
 
-def build_channel(params, wall_model, threads):
+def _duct_settings(params, across):
+    """Checked (height, dx, length, h, u_max, nu, rho0, c0) of a channel or duct; dx defaults to height/across."""
     height = require_positive("height", params["height"])
     if params["dx"] is None:
-        params["dx"] = height / 20.0
+        params["dx"] = height / across
     dx = require_positive("dx", params["dx"])
     n_across = height / dx
     if abs(n_across - round(n_across)) > 1e-6:
@@ -116,6 +117,11 @@ def build_channel(params, wall_model, threads):
     rho0 = require_positive("rho0", params["rho0"])
     c0 = params["c0"] or 10.0 * u_max
     params["c0"] = c0
+    return height, dx, length, h, u_max, nu, rho0, c0
+
+
+def build_channel(params, wall_model, threads):
+    height, dx, length, h, u_max, nu, rho0, c0 = _duct_settings(params, 20)
     kernel = CubicSpline()
     model = wall_model()
     _require_noslip(model, "channel")
@@ -194,20 +200,7 @@ def channel_profile(sim, x_range=(0.25, 0.75), axis=1):
 
 def build_pipe_3d(params, wall_model, threads):
     """Square duct |y - a|, |z - a| < a (side H = 2a) with the duct profile as reference flow."""
-    height = require_positive("height", params["height"])
-    if params["dx"] is None:
-        params["dx"] = height / 10.0
-    dx = require_positive("dx", params["dx"])
-    n_across = height / dx
-    if abs(n_across - round(n_across)) > 1e-6:
-        raise ParameterError(f"height / dx must be a whole number, got {n_across:g}")
-    length = round(require_positive("length", params["length"]) / dx) * dx
-    h = require_positive("h_factor", params["h_factor"]) * dx
-    u_max = require_positive("u_max", params["u_max"])
-    nu = u_max * height / require_positive("reynolds", params["reynolds"])
-    rho0 = require_positive("rho0", params["rho0"])
-    c0 = params["c0"] or 10.0 * u_max
-    params["c0"] = c0
+    height, dx, length, h, u_max, nu, rho0, c0 = _duct_settings(params, 10)
     a = 0.5 * height
     kernel = CubicSpline()
     model = wall_model()

@@ -109,7 +109,7 @@ def build_couette(params, wall_model, threads):
                     wall_speed=require_positive("wall_speed", params["wall_speed"]))
 
 
-CHANNEL = {
+PLATE_FLOW_PARAMETERS = {
     "dx": Parameter(None, "particle spacing [m] (default width/40)"),
     "h_factor": Parameter(1.3, "smoothing length h / dx"),
     "width": Parameter(1e-3, "distance L between the plates [m]"),
@@ -125,7 +125,7 @@ POISEUILLE = Case(
     description="start-up Poiseuille flow between plates 1 mm apart, periodic in x, body force "
                 "(Morris et al. 1997); use a no-slip wall, e.g. --boundary adami-noslip",
     builder=build_poiseuille,
-    parameters={**CHANNEL, "force": Parameter(2e-4, "body force per unit mass along x [m/s^2]")},
+    parameters={**PLATE_FLOW_PARAMETERS, "force": Parameter(2e-4, "body force per unit mass along x [m/s^2]")},
     t_end=1.0, probe_every=0.005, output_every=0.05)
 
 COUETTE = Case(
@@ -133,7 +133,7 @@ COUETTE = Case(
     description="start-up Couette flow between plates 1 mm apart, upper plate moving, periodic in x "
                 "(Morris et al. 1997); use a no-slip wall, e.g. --boundary adami-noslip",
     builder=build_couette,
-    parameters={**CHANNEL, "wall_speed": Parameter(2.5e-5, "speed U of the upper plate [m/s]")},
+    parameters={**PLATE_FLOW_PARAMETERS, "wall_speed": Parameter(2.5e-5, "speed U of the upper plate [m/s]")},
     t_end=1.0, probe_every=0.005, output_every=0.05)
 
 
