@@ -1,0 +1,64 @@
+"""Shared run of the lid-driven cavity entries (``cavity-re1``, ``cavity-re100``, ``cavity-re1000``)."""
+
+import numpy as np
+
+from ... import cases
+from ...cases.lid_cavity import centrelines
+from .. import row
+from ._common import pyplot
+
+TOL = 0.05      # of the lid speed, fixed before the runs (the figure seed 003's Re = 1 comparison is judged by)
+
+
+def run_cavity(ctx, reynolds, t_end):
+    n = 20 if ctx.quick else 50
+    sim = cases.build("cavity", boundary="adami-noslip", dx=1e-3 / n, reynolds=reynolds, threads=ctx.threads)
+    sim.add(every=t_end / 100)
+    res = sim.run(t_end / 10 if ctx.quick else t_end, progress=False)
+    if reynolds == 1:
+        ref = ctx.data("lid_driven_cavity_stokes_computed", "cavity_Re1_centerlines.csv")
+        s_u, u_ref, s_v, v_ref = ref[:, 0], ref[:, 1], ref[:, 0], ref[:, 2]
+        label = "computed Re = 1 reference (data/lid_driven_cavity_stokes_computed)"
+    else:
+        col = {100: 2, 400: 3, 1000: 4}[reynolds]
+        tu = ctx.data("ghia1982_lid_driven_cavity", "ghia1982_u_vertical_centerline.csv")
+        tv = ctx.data("ghia1982_lid_driven_cavity", "ghia1982_v_horizontal_centerline.csv")
+        s_u, u_ref, s_v, v_ref = tu[:, 1], tu[:, col], tv[:, 1], tv[:, col]
+        label = f"Ghia, Ghia & Shin 1982, Re = {reynolds}"
+    u, _ = centrelines(sim, s_u)
+    _, v = centrelines(sim, s_v)
+    rows = []
+    for name, s, got, want in (("u/U on x = L/2", s_u, u, u_ref), ("v/U on y = L/2", s_v, v, v_ref)):
+        # the wall points themselves are boundary values, not solution values
+        inside = (s > 0.0) & (s < 1.0)
+        err = np.where(inside, got - want, 0.0)
+        k = int(np.nanargmax(np.abs(err)))
+        rows.append(row(f"cavity Re = {reynolds}", f"{name}, worst of {inside.sum()} points (s = {s[k]:.3f})",
+                        label, float(want[k]), float(got[k]), error=float(err[k]), kind="% of U", tolerance=TOL,
+                        fmt="{:.4f}"))
+    ke = res["kinetic_energy"]
+    late = ke[len(ke) // 2:]
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 4), dpi=100)
+    fine = np.linspace(0, 1, 101)
+    uf, vf = centrelines(sim, fine)
+    a1.plot(u_ref, s_u, "ko", ms=3, mfc="none", label="reference")
+    a1.plot(uf, fine, "b-", lw=1.2, label=f"seawall adami-noslip, dx = L/{n}")
+    a1.set_xlabel("u/U")
+    a1.set_ylabel("y/L")
+    a1.legend(fontsize=7)
+    a2.plot(s_v, v_ref, "ko", ms=3, mfc="none", label="reference")
+    a2.plot(fine, vf, "b-", lw=1.2, label="seawall")
+    a2.set_xlabel("x/L")
+    a2.set_ylabel("v/U")
+    fig.suptitle(f"lid-driven cavity, Re = {reynolds}, t = {sim.time:.3g} s", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(ctx.plot_path(f"cavity_re{reynolds}"))
+    plt.close(fig)
+    return {"rows": rows,
+            "settings": f"case cavity, Re = {reynolds}, boundary adami-noslip, L = 1 mm, U = 1 mm/s, dx = L/{n} "
+                        f"({sim.fluid.n} fluid particles), c0 = {sim.physics.c0:g} m/s, t_end = {sim.time:g} s",
+            "notes": [f"Error: (seawall - reference) / U at the reference point with the largest deviation "
+                      f"(Shepard interpolation of the particles, seawall.sampling). Kinetic energy over the second "
+                      f"half of the run changed by {100 * (late[-1] / late[0] - 1):+.2f} % (steadiness). "
+                      f"Escaped particles: {res.summary['escaped_particles']}."]}
