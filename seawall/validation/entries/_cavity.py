@@ -10,9 +10,9 @@ from ._common import pyplot
 TOL = 0.05      # of the lid speed, fixed before the runs (the figure seed 003's Re = 1 comparison is judged by)
 
 
-def run_cavity(ctx, reynolds, t_end):
+def run_cavity(ctx, reynolds, t_end, c0=None):
     n = 20 if ctx.quick else 50
-    sim = cases.build("cavity", boundary="adami-noslip", dx=1e-3 / n, reynolds=reynolds, threads=ctx.threads)
+    sim = cases.build("cavity", boundary="adami-noslip", dx=1e-3 / n, reynolds=reynolds, c0=c0, threads=ctx.threads)
     sim.add(every=t_end / 100)
     res = sim.run(t_end / 10 if ctx.quick else t_end, progress=False)
     if reynolds == 1:
