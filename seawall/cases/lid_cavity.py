@@ -56,14 +56,15 @@ def build_cavity(params, wall_model, threads):
     fluid = FluidSystem(shapes.rectangle((0.0, 0.0), (side, side), dx), rho0=rho0, eos=eos,
                         viscosity=LaminarViscosity(nu=nu),
                         density_diffusion=DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)
-    walls = shapes.tank((0.0, 0.0), (side, side), dx, layers=wall_layers(kernel, h, dx), open_top=False)
+    layers = wall_layers(kernel, h, dx)
+    walls = shapes.tank((0.0, 0.0), (side, side), dx, layers=layers, open_top=False)
     is_lid = walls.positions[:, 1] > side
     model = wall_model()
     if getattr(model, "wall_layout", "layers") != "layers":
         raise ParameterError("the cavity needs a layered wall model (dummy, ghost or DBC family)")
     systems = [fluid, WallSystem(walls.subset(~is_lid), model=model, name="walls"),
                WallSystem(walls.subset(is_lid), model=wall_model(), velocity=(lid, 0.0), name="lid")]
-    margin = (wall_layers(kernel, h, dx) + 2) * dx
+    margin = (layers + 2) * dx
     sim = Simulation(systems, kernel=kernel, h=h, gravity=(0.0, 0.0), integrator=Symplectic(cfl=params["cfl"]),
                      threads=threads, domain=((-margin, -margin), (side + margin, side + margin)))
     sim.add(FieldProbe("u_centre", (0.5 * side, 0.5 * side), "u"), probes.KineticEnergy(), probes.TotalMass())
@@ -77,13 +78,17 @@ def default_t_end(sim):
     return min(0.5 * ref["side"] ** 2 / ref["nu"], 30.0 * ref["side"] / ref["lid_speed"])
 
 
-def centrelines(sim, s):
-    """u/U on the vertical centreline at y = s L and v/U on the horizontal one at x = s L (Shepard-interpolated)."""
+def centrelines(sim, s, s_horizontal=None):
+    """u/U on the vertical centreline at y = s L and v/U on the horizontal one at x = s_horizontal L.
+
+    ``s_horizontal`` defaults to ``s`` (Shepard interpolation, seawall.sampling).
+    """
     ref = sim.reference
     side, lid = ref["side"], ref["lid_speed"]
     s = np.asarray(s, dtype=np.float64)
+    sh = s if s_horizontal is None else np.asarray(s_horizontal, dtype=np.float64)
     vertical = np.stack([np.full_like(s, 0.5 * side), s * side], axis=1)
-    horizontal = np.stack([s * side, np.full_like(s, 0.5 * side)], axis=1)
+    horizontal = np.stack([sh * side, np.full_like(sh, 0.5 * side)], axis=1)
     u = interpolate(sim, vertical, ("u",))["u"] / lid
     v = interpolate(sim, horizontal, ("v",))["v"] / lid
     return u, v

@@ -25,8 +25,7 @@ def run_cavity(ctx, reynolds, t_end, c0=None):
         tv = ctx.data("ghia1982_lid_driven_cavity", "ghia1982_v_horizontal_centerline.csv")
         s_u, u_ref, s_v, v_ref = tu[:, 1], tu[:, col], tv[:, 1], tv[:, col]
         label = f"Ghia, Ghia & Shin 1982, Re = {reynolds}"
-    u, _ = centrelines(sim, s_u)
-    _, v = centrelines(sim, s_v)
+    u, v = centrelines(sim, s_u, s_v)
     rows = []
     for name, s, got, want in (("u/U on x = L/2", s_u, u, u_ref), ("v/U on y = L/2", s_v, v, v_ref)):
         # the wall points themselves are boundary values, not solution values
