@@ -1,10 +1,12 @@
 """``seawall validate``: validation entries, their stored results and docs/validation.md.
 
-An *entry* is one module in ``seawall/validation/entries/`` that defines
-``ENTRY = Entry(...)``: a name, a title, the expected duration of its full
+An *entry* is defined in a module of ``seawall/validation/entries/`` as
+``ENTRY = Entry(...)`` (or several as a tuple ``ENTRIES``, when they share
+one run with other settings): a name, a title, the expected duration of its full
 run, and ``run(ctx)`` returning rows (case, quantity, reference, reference
 value, seawall value, error, tolerance, pass/fail) and plots. Modules there
-are discovered automatically, so adding an entry is adding one file.
+are discovered automatically, so adding an entry is adding one file (or one
+``Entry`` to a tuple).
 
 ``seawall validate [NAME ...]`` runs the named entries (default: all) at their
 stated resolution, stores each entry's result as ``validation/out/validate/<name>.json``
@@ -101,8 +103,10 @@ def all_entries():
     found = {}
     for info in pkgutil.iter_modules(pkg.__path__):
         module = importlib.import_module(f"{pkg.__name__}.{info.name}")
-        entry = getattr(module, "ENTRY", None)
-        if isinstance(entry, Entry):
+        entries = [getattr(module, "ENTRY", None), *getattr(module, "ENTRIES", ())]
+        for entry in entries:
+            if not isinstance(entry, Entry):
+                continue
             if entry.name in found:
                 raise ParameterError(f"two validation entries are named {entry.name!r}")
             found[entry.name] = entry

@@ -1,10 +1,15 @@
-"""Shared run of the lid-driven cavity entries (``cavity-re1``, ``cavity-re100``, ``cavity-re1000``)."""
+"""Lid-driven cavity entries ``cavity-re1`` (computed reference), ``cavity-re100`` and ``cavity-re1000`` (Ghia et al.).
+
+Each entry's description says its settings; the three share :func:`run_cavity`.
+"""
+
+from functools import partial
 
 import numpy as np
 
 from ... import cases
 from ...cases.lid_cavity import centrelines
-from .. import row
+from .. import Entry, row
 from ._common import pyplot
 
 TOL = 0.05      # of the lid speed, fixed before the runs (the figure seed 003's Re = 1 comparison is judged by)
@@ -61,3 +66,24 @@ def run_cavity(ctx, reynolds, t_end, c0=None):
                       f"(Shepard interpolation of the particles, seawall.sampling). Kinetic energy over the second "
                       f"half of the run changed by {100 * (late[-1] / late[0] - 1):+.2f} % (steadiness). "
                       f"Escaped particles: {res.summary['escaped_particles']}."]}
+
+
+_SETUP = ("Case ``cavity`` (L = 1 mm, lid U = 1 mm/s, nu = U L / Re; seed 003 sec. 4.2 runs Re = 1), no-slip dummy "
+          "walls (``adami-noslip``), dx = L/50, h = 1.2 dx, ")
+_QUANTITY = ("Quantity: u/U on the vertical and v/U on the horizontal centreline at the reference points; the largest "
+             "deviation. Tolerance (fixed before the run): 5 % of U.")
+
+ENTRIES = (
+    Entry(name="cavity-re1", title="Lid-driven cavity, Re = 1: centreline velocities",
+          run=partial(run_cavity, reynolds=1, t_end=2.0, c0=0.05), expected_s=170, quick_s=10, order=80,
+          description=_SETUP + "c0 = 0.05 m/s, until t = 2.0 s (two viscous times L^2 / nu). The seed's c0 = 10 U = "
+          "0.01 m/s is not used: with it the viscous stress at the lid's corners (~ rho nu U / dx) is half of "
+          "rho0 c0^2, and the run stops at t = 0.82 s with a particle in the top right corner compressed to 2 rho0. "
+          + _QUANTITY),
+    Entry(name="cavity-re100", title="Lid-driven cavity, Re = 100: centreline velocities",
+          run=partial(run_cavity, reynolds=100, t_end=30.0), expected_s=340, quick_s=10, order=81,
+          description=_SETUP + "until t = 30.0 s. " + _QUANTITY),
+    Entry(name="cavity-re1000", title="Lid-driven cavity, Re = 1000: centreline velocities",
+          run=partial(run_cavity, reynolds=1000, t_end=30.0), expected_s=320, quick_s=10, order=82,
+          description=_SETUP + "until t = 30.0 s. " + _QUANTITY),
+)
