@@ -4,12 +4,14 @@ from ..errors import ParameterError
 from .base import Case, Parameter
 from .dem_box import DEM_BOX
 from .idbc_tests import DROP_IMPACT, PARTICLE_IN_BOX
+from .liu2015 import CAVITY, DAM_BREAK_ETSIN, PLATES
 from .moving import MOVING_WALL
 from .tanks import COLLAPSE, DAM_BREAK, DAM_BREAK_3D, HYDROSTATIC
 from .waves import MOVABLE_SEAWALL, SOLITARY_RUNUP, SOLITARY_SEAWALL, SOLITARY_WAVE
 
 CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PARTICLE_IN_BOX, DROP_IMPACT, MOVING_WALL,
                                 DEM_BOX, SOLITARY_WAVE, SOLITARY_SEAWALL, SOLITARY_RUNUP, MOVABLE_SEAWALL)}
+CASES.update({c.name: c for c in (PLATES, CAVITY, DAM_BREAK_ETSIN)})
 
 
 def case_by_name(name):
