@@ -45,9 +45,9 @@ def _preset(params, c0, h_factor):
     preset = liu2015(c0, alpha=params["alpha"], delta=params["delta"], nu=params["nu"], h_factor=h_factor,
                      background_pressure=params.get("background_pressure", 0.0) or 0.0)
     if params["dt"]:
-        from ..integrators import LeapFrog
+        from ..integrators import PredictedLeapFrog
 
-        preset.integrator = LeapFrog(dt=require_positive("dt", params["dt"]))
+        preset.integrator = PredictedLeapFrog(dt=require_positive("dt", params["dt"]))
     return preset
 
 

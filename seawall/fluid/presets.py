@@ -20,14 +20,15 @@
   plus Monaghan artificial viscosity, alpha = 0.02 (the smallest value the
   seed found stable), epsilon = 0.01 in r^2 + epsilon h^2       (eq. 11);
 * delta-SPH, delta = 0.1, with the Bonet-Lok corrected gradient  (eq. 12-15);
-* kick-drift-kick leap-frog                                     (eq. 16-17)
+* leap-frog with the rates at the predicted full-step state     (eq. 16-17;
+  :class:`~seawall.integrators.PredictedLeapFrog`)
   with dt = min(0.4 dt_cv, 0.25 dt_f)                             (eq. 18-20).
 """
 
 from dataclasses import dataclass
 
 from ..eos import Linear, Tait
-from ..integrators import LeapFrog
+from ..integrators import PredictedLeapFrog
 from ..kernels import CubicSpline, Gaussian
 from .models import ArtificialViscosity, DeltaSPH, LaminarViscosity
 from .system import FluidSystem
@@ -102,7 +103,7 @@ def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient
     return FluidPreset(name="liu2015", eos=Tait(c0=c0, gamma=7.0, background_pressure=background_pressure),
                        viscosity=viscosity or None,
                        density_diffusion=DeltaSPH(delta=delta, lagged_gradient=lagged_gradient) if delta > 0 else None,
-                       kernel=CubicSpline(), h_factor=h_factor, integrator=LeapFrog(rule="liu2015"))
+                       kernel=CubicSpline(), h_factor=h_factor, integrator=PredictedLeapFrog(rule="liu2015"))
 
 
 PRESETS = {"marrone2011": marrone2011, "liu2015": liu2015}
