@@ -42,6 +42,22 @@ def _monaghan_kajtar(options):
                           alpha_wall=float(options.pop("alpha_wall", 0.0)))
 
 
+def _liu2015(default_slip="free"):
+    def factory(options):
+        from .liu2015 import Liu2015Wall
+
+        nu = options.pop("wall_nu", None)
+        return Liu2015Wall(slip=str(options.pop("slip", default_slip)), nu=None if nu is None else float(nu),
+                           continuity=str(options.pop("continuity", "normal")))
+    return factory
+
+
+def _liu2012(options):
+    from .liu2012 import Liu2012Force
+
+    return Liu2012Force(beta=float(options.pop("beta", 2.0)))
+
+
 def _flag(value):
     if isinstance(value, bool):
         return value
@@ -98,6 +114,10 @@ BOUNDARIES = {
     "idbc": (_dynamic(ImprovedDynamicBoundary),
              "improved DBC, Li et al. (seed 000): order-7 EOS, rectangular support, alpha_DB "
              "(--set order=1..7 rectangular=0/1 correction=0/1 alpha_wall=...)"),
+    "liu2015": (_liu2015(), "dummy particles of Liu et al. (2015, seed 003): normal-only repulsive pressure term, "
+                "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off)"),
+    "liu2015-noslip": (_liu2015("noslip"), "Liu et al. (2015) dummy particles with no slip (eq. 28-29)"),
+    "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2)"),
 }
 
 

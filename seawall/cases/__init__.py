@@ -7,6 +7,7 @@ from .dem_box import DEM_BOX
 from .flows import COUETTE, ELLIPTICAL_DROP, POISEUILLE, TAYLOR_GREEN
 from .idbc_tests import DROP_IMPACT, PARTICLE_IN_BOX
 from .lid_cavity import CAVITY
+from .liu2015 import DAM_BREAK_ETSIN, PLATES
 from .moving import MOVING_WALL
 from .s_cavity import S_CAVITY
 from .tanks import COLLAPSE, DAM_BREAK, DAM_BREAK_3D, HYDROSTATIC
@@ -15,7 +16,8 @@ from .waves import MOVABLE_SEAWALL, SOLITARY_RUNUP, SOLITARY_SEAWALL, SOLITARY_W
 CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PARTICLE_IN_BOX, DROP_IMPACT, MOVING_WALL,
                                 DEM_BOX, SOLITARY_WAVE, SOLITARY_SEAWALL, SOLITARY_RUNUP, MOVABLE_SEAWALL,
                                 CHANNEL, S_CAVITY, PIPE_3D,
-                                POISEUILLE, COUETTE, TAYLOR_GREEN, ELLIPTICAL_DROP, CAVITY)}
+                                POISEUILLE, COUETTE, TAYLOR_GREEN, ELLIPTICAL_DROP, CAVITY,
+                                PLATES, DAM_BREAK_ETSIN)}
 
 
 def case_by_name(name):

@@ -97,7 +97,8 @@ class Case:
 #: keys of --set that belong to the wall model rather than the case
 BOUNDARY_OPTION_KEYS = {"K", "beta", "wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
                         "shepard_mu", "shepard_lambda", "sfdi_diagonal",
-                        "alpha_wall", "wall_density", "adhesion_coefficient"}
+                        "alpha_wall", "wall_density", "adhesion_coefficient",
+                        "continuity"}
 
 
 def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):

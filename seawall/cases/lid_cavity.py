@@ -6,11 +6,20 @@ its whole row of wall particles including the corner columns) slides along
 dx = 2e-5 m (L/50), h = 1.2 dx; the defaults here are the seed's, with
 Re = 100 and 1000 reached through ``reynolds`` (nu = U L / Re).
 
-Fluid settings: laminar viscosity (Morris et al. 1997, seed 003 eq. 9),
-linear EOS, delta-SPH (delta = 0.1), no artificial viscosity, no gravity.
+Two fluids (parameter ``fluid``):
+
+* ``standard`` (default): laminar viscosity (Morris et al. 1997, seed 003
+  eq. 9), linear EOS, delta-SPH (delta = 0.1), no artificial viscosity,
+  symplectic integrator, no gravity;
+* ``liu2015``: the seed's own fluid of sec. 2 (Tait EOS, laminar plus
+  artificial viscosity alpha = 0.02, delta-SPH with the Bonet-Lok gradient,
+  leap-frog with the dt rule of eq. 18-20; :func:`seawall.fluid.presets.liu2015`),
+  no background pressure unless asked for; ``dt`` fixes the step.
+
 Speed of sound from Morris et al. (1997) sec. 2.4 with a 1 % density
 variation: c0^2 = max(U^2, nu U / L) / 0.01, i.e. c0 = 10 U max(1, Re^-1/2).
-A background pressure of ``background`` x rho0 c0^2 (default 0.05) keeps
+A background pressure of ``background`` x rho0 c0^2 (default 0.05 with the
+standard fluid, 0 with the seed's) keeps
 the wall-corner suction from turning the pressure negative, where the
 pairwise pressure force would pull particles into clumps (tensile
 instability); with the symmetric pressure term a uniform background exerts
@@ -29,11 +38,15 @@ from ..boundary.base import WallSystem
 from ..eos import Linear
 from ..errors import ParameterError, require_positive
 from ..fluid import DeltaSPH, FluidSystem, LaminarViscosity
-from ..integrators import Symplectic
+from ..fluid.presets import liu2015
+from ..integrators import PredictedLeapFrog, Symplectic
 from ..kernels import CubicSpline
 from ..sampling import FieldProbe, interpolate
 from ..simulation import Simulation
 from .base import Case, Parameter, wall_layers
+
+
+FLUIDS = ("standard", "liu2015")
 
 
 def build_cavity(params, wall_model, threads):
@@ -50,22 +63,42 @@ def build_cavity(params, wall_model, threads):
     rho0 = require_positive("rho0", params["rho0"])
     c0 = params["c0"] or 10.0 * lid * max(1.0, reynolds ** -0.5)
     params["c0"] = c0
-    h = require_positive("h_factor", params["h_factor"]) * dx
-    kernel = CubicSpline()
-    eos = Linear(c0=c0, background_pressure=params["background"] * rho0 * c0 * c0)
-    fluid = FluidSystem(shapes.rectangle((0.0, 0.0), (side, side), dx), rho0=rho0, eos=eos,
-                        viscosity=LaminarViscosity(nu=nu),
-                        density_diffusion=DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)
-    layers = wall_layers(kernel, h, dx)
+    h_factor = require_positive("h_factor", params["h_factor"])
+    h = h_factor * dx
+    kind = params["fluid"]
+    if kind not in FLUIDS:
+        raise ParameterError(f"fluid must be one of {', '.join(FLUIDS)}, got {kind!r}")
+    if params["background"] is None:
+        params["background"] = 0.05 if kind == "standard" else 0.0
+    background = params["background"] * rho0 * c0 * c0
+    block = shapes.rectangle((0.0, 0.0), (side, side), dx)
+    if kind == "standard":
+        kernel = CubicSpline()
+        fluid = FluidSystem(block, rho0=rho0, eos=Linear(c0=c0, background_pressure=background),
+                            viscosity=LaminarViscosity(nu=nu),
+                            density_diffusion=DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)
+        integrator = Symplectic(cfl=params["cfl"])
+    else:
+        preset = liu2015(c0, alpha=params["alpha"], delta=params["delta"], nu=nu, h_factor=h_factor,
+                         background_pressure=background)
+        kernel = preset.kernel
+        fluid = preset.fluid(block, rho0=rho0)
+        integrator = PredictedLeapFrog(dt=params["dt"]) if params["dt"] else preset.integrator
+    if params["layers"] is not None and params["layers"] < 1:
+        raise ParameterError(f"layers must be >= 1, got {params['layers']}")
+    layers = params["layers"] or wall_layers(kernel, h, dx)
     walls = shapes.tank((0.0, 0.0), (side, side), dx, layers=layers, open_top=False)
-    is_lid = walls.positions[:, 1] > side
+    is_lid = walls.positions[:, 1] > side   # the whole top row of wall particles, corner columns included
     model = wall_model()
     if getattr(model, "wall_layout", "layers") != "layers":
         raise ParameterError("the cavity needs a layered wall model (dummy, ghost or DBC family)")
+    if getattr(model, "slip", "noslip") != "noslip":
+        raise ParameterError("the cavity needs a no-slip wall: use e.g. --boundary adami-noslip or liu2015-noslip "
+                             "(or --set slip=noslip)")
     systems = [fluid, WallSystem(walls.subset(~is_lid), model=model, name="walls"),
                WallSystem(walls.subset(is_lid), model=wall_model(), velocity=(lid, 0.0), name="lid")]
     margin = (layers + 2) * dx
-    sim = Simulation(systems, kernel=kernel, h=h, gravity=(0.0, 0.0), integrator=Symplectic(cfl=params["cfl"]),
+    sim = Simulation(systems, kernel=kernel, h=h, gravity=(0.0, 0.0), integrator=integrator,
                      threads=threads, domain=((-margin, -margin), (side + margin, side + margin)))
     sim.add(FieldProbe("u_centre", (0.5 * side, 0.5 * side), "u"), probes.KineticEnergy(), probes.TotalMass())
     sim.reference = {"type": "cavity", "side": side, "lid_speed": lid, "reynolds": reynolds, "nu": nu}
@@ -97,7 +130,7 @@ def centrelines(sim, s, s_horizontal=None):
 CAVITY = Case(
     name="cavity",
     description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 (seed 003 sec. 4.2; --set reynolds=100/1000 for "
-                "Ghia); use a no-slip wall, e.g. --boundary adami-noslip",
+                "Ghia; --set fluid=liu2015 for the seed's fluid); needs a no-slip wall, e.g. --boundary adami-noslip",
     builder=build_cavity,
     parameters={
         "dx": Parameter(None, "particle spacing [m] (default side/50, the seed's 2e-5 m)"),
@@ -107,8 +140,14 @@ CAVITY = Case(
         "h_factor": Parameter(1.2, "smoothing length / dx (seed 003: 1.2)"),
         "rho0": Parameter(1000.0, "reference density [kg/m^3]"),
         "c0": Parameter(None, "speed of sound [m/s] (default 10 U max(1, Re^-1/2))"),
-        "background": Parameter(0.05, "background pressure / (rho0 c0^2)"),
+        "fluid": Parameter("standard", "fluid scheme: standard (linear EOS, symplectic) or liu2015 (seed 003 sec. 2)",
+                           str),
+        "background": Parameter(None, "background pressure / (rho0 c0^2) (default 0.05 standard, 0 liu2015)"),
         "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
-        "cfl": Parameter(0.2, "CFL number (the viscous limit 0.125 h^2/nu applies too)"),
+        "alpha": Parameter(0.02, "artificial viscosity alpha of the liu2015 fluid (seed 003 eq. 11; 0 = off)"),
+        "cfl": Parameter(0.2, "CFL number of the standard fluid (the viscous limit 0.125 h^2/nu applies too)"),
+        "dt": Parameter(0.0, "fixed time step [s] of the liu2015 fluid (0 = its adaptive rule, eq. 18-20)"),
+        "layers": Parameter(None, "wall layers (default: enough to fill the kernel support; seed 003 uses 4)",
+                            int),
     },
     t_end=0.5, probe_every=0.01, output_every=0.05)

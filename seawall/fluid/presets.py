@@ -11,13 +11,26 @@
   (the core's Monaghan form with alpha = 0.02 and beta = 0: the same term);
 * Gaussian kernel cut at delta = 3h and renormalised to unit integral (eq. 7),
   h = 1.3 dx in seed 001 sec. 4.1.
+
+``liu2015`` -- the fluid of Liu et al. (2015), seed 003 sec. 2:
+
+* Tait equation of state, gamma = 7, P0 = c_s^2 rho0 / gamma      (eq. 4);
+* cubic spline kernel                                           (eq. 7);
+* laminar viscosity (Morris et al. 1997) with mu = 1e-3 Pa s     (eq. 9, sec. 4.1)
+  plus Monaghan artificial viscosity, alpha = 0.02 (the smallest value the
+  seed found stable), epsilon = 0.01 in r^2 + epsilon h^2       (eq. 11);
+* delta-SPH, delta = 0.1, with the Bonet-Lok corrected gradient  (eq. 12-15);
+* leap-frog with the rates at the predicted full-step state     (eq. 16-17;
+  :class:`~seawall.integrators.PredictedLeapFrog`)
+  with dt = min(0.4 dt_cv, 0.25 dt_f)                             (eq. 18-20).
 """
 
 from dataclasses import dataclass
 
-from ..eos import Linear
-from ..kernels import Gaussian
-from .models import ArtificialViscosity, DeltaSPH
+from ..eos import Linear, Tait
+from ..integrators import PredictedLeapFrog
+from ..kernels import CubicSpline, Gaussian
+from .models import ArtificialViscosity, DeltaSPH, LaminarViscosity
 from .system import FluidSystem
 
 
@@ -31,6 +44,8 @@ class FluidPreset:
     density_diffusion: object
     kernel: object
     h_factor: float
+    #: the scheme's time integrator, if it prescribes one
+    integrator: object = None
 
     def fluid(self, shape, **kwargs):
         """A FluidSystem on ``shape`` with this scheme (extra FluidSystem arguments pass through)."""
@@ -57,4 +72,38 @@ def marrone2011(c0, *, alpha=0.02, delta=0.1, h_factor=1.3):
                        h_factor=h_factor)
 
 
-PRESETS = {"marrone2011": marrone2011}
+def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient=True,
+            background_pressure=0.0):
+    """The fluid of Liu et al. (2015), seed 003 sec. 2 (Tait, cubic spline, laminar + artificial viscosity,
+    delta-SPH, leap-frog with the dt rule of eq. 18-20).
+
+    Parameters
+    ----------
+    c0 : float
+        Speed of sound c_s [m/s] (seed 003: about 10 x the largest flow speed).
+    alpha : float
+        Artificial viscosity coefficient (eq. 11), 0.02; 0 switches it off.
+    delta : float
+        delta-SPH coefficient (eq. 12), 0.1; 0 switches it off.
+    nu : float
+        Kinematic viscosity [m^2/s] of the laminar term (eq. 9), 1e-6 (water); 0 switches it off.
+    h_factor : float
+        h / dx: 1.5 in seed 003 sec. 4.1, 1.2 in sec. 4.2 and 4.3.
+    lagged_gradient : bool
+        delta-SPH density gradient of the previous evaluation (one neighbour pass,
+        see :class:`~seawall.fluid.DeltaSPH`); False computes it as written.
+    background_pressure : float
+        Constant added to the Tait pressure [Pa], 0 in seed 003.
+    """
+    viscosity = []
+    if alpha > 0:
+        viscosity.append(ArtificialViscosity(alpha=alpha))
+    if nu > 0:
+        viscosity.append(LaminarViscosity(nu=nu))
+    return FluidPreset(name="liu2015", eos=Tait(c0=c0, gamma=7.0, background_pressure=background_pressure),
+                       viscosity=viscosity or None,
+                       density_diffusion=DeltaSPH(delta=delta, lagged_gradient=lagged_gradient) if delta > 0 else None,
+                       kernel=CubicSpline(), h_factor=h_factor, integrator=PredictedLeapFrog(rule="liu2015"))
+
+
+PRESETS = {"marrone2011": marrone2011, "liu2015": liu2015}

@@ -1,0 +1,60 @@
+"""Seed 003 sec. 4 with the Liu et al. (2015) wall: the block between plates and the Re = 1 cavity.
+
+plates (full resolution, dx = 1 mm, 1600 particles, 810 steps): with liu2015 every
+particle stays on its rigid-translation path to 5e-13 m (the wall never acts on
+a block sliding along it). Adami and Monaghan-Kajtar on the same case: see
+docs/liu2015.md (validation/liu2015.py).
+
+cavity (fluid liu2015, 4 layers) at Re = 1, dx = L/30, c0 = 0.05 m/s, t = 0.5 s: the largest
+centreline deviation from the computed Re = 1 reference (stations at least dx
+from the walls) was 8.8 % of U (u, s = 0.91) and 5.0 % (v, s = 0.77) -- the
+issue's 5 % is NOT met at this resolution; the strict xfail records it.
+"""
+
+import numpy as np
+import pytest
+
+from seawall.cases import build
+from seawall.cases.lid_cavity import centrelines
+
+
+def test_block_leaves_the_plates_undeformed_with_liu2015():
+    dx = 1e-3
+    sim = build("plates", boundary="liu2015")
+    result = sim.run(0.048, progress=False)
+    assert result.summary["escaped_particles"] == 0
+    # the block has left the plates (its top passed their lower end at t = 0.045 s)
+    assert sim.fluid.particles["x"][:, 1].max() < 0.0
+    assert result["deformation_between"].max() < 0.1 * dx
+    assert result["deformation"].max() < 0.1 * dx
+    assert np.abs(result["p_min"]).max() < 1.0 and np.abs(result["p_max"]).max() < 1.0
+
+
+@pytest.fixture(scope="module")
+def cavity_re1():
+    n = 30
+    sim = build("cavity", boundary="liu2015-noslip", fluid="liu2015", layers=4, dx=1e-3 / n, reynolds=1.0,
+                c0=0.05)
+    result = sim.run(0.5, progress=False)
+    ref = np.loadtxt("data/lid_driven_cavity_stokes_computed/cavity_Re1_centerlines.csv", delimiter=",",
+                     skiprows=1)
+    s = ref[:, 0]
+    keep = (s >= 1.0 / n) & (s <= 1.0 - 1.0 / n)
+    u, v = centrelines(sim, s[keep])
+    return result, u - ref[keep, 1], v - ref[keep, 2], u, v
+
+
+def test_cavity_re1_runs_and_turns_the_right_way(cavity_re1):
+    result, du, dv, u, v = cavity_re1
+    assert result.summary["escaped_particles"] == 0
+    # the primary vortex: backflow below the lid on the vertical centreline, up on the right, down on the left
+    assert u.min() < -0.1
+    assert v.max() > 0.1 and v.min() < -0.1
+    # measured 8.8 % / 5.0 % of U: the shape is right within 10 % of U
+    assert np.abs(du).max() < 0.10 and np.abs(dv).max() < 0.10
+
+
+@pytest.mark.xfail(strict=True, reason="dx = L/30: 8.8 % (u) and 5.0 % (v) of U, see docs/liu2015.md")
+def test_cavity_re1_centrelines_within_5_percent(cavity_re1):
+    _, du, dv, _, _ = cavity_re1
+    assert np.abs(du).max() < 0.05 and np.abs(dv).max() < 0.05
