@@ -12,7 +12,8 @@
   seed's fluid.
 * ``dam-break-etsin`` (sec. 4.4): the dam break of Lobovsky et al. (2014)
   used by the seed: column H = 0.3 m high and 0.6 m long in a 1.61 m tank,
-  dx = 6 mm, c_s = 10 sqrt(2 g H), gate removed instantaneously; pressure
+  dx = 6 mm, c_s = 10 sqrt(2 g H), dt = 5e-5 s, gate removed instantaneously
+  (or lifted at ``gate_speed``, 3.46 m/s in the experiment); pressure
   sensors on the wall hit by the surge at 3, 15, 30 and 80 mm above the
   floor (S1-S4; the seed's monitoring points 1 and 2 are S1 and S3).
 """
@@ -25,8 +26,10 @@ from .. import probes, shapes
 from ..boundary.base import WallSystem
 from ..errors import ParameterError, require_positive
 from ..fluid.presets import liu2015
+from ..boundary.movement import PrescribedMotion
 from ..simulation import Simulation
-from .base import GRAVITY, Case, Parameter, tank_wall
+from .base import GRAVITY, Case, Parameter, tank_wall, wall_layers
+from .tanks import _gravity, _hydrostatic, snap
 
 RHO0 = 1000.0
 
@@ -175,8 +178,36 @@ PLATES = Case(
 
 
 # ---------------------------------------------------------------- dam break (ETSIN)
+SENSORS = (("S1", 0.003), ("S2", 0.015), ("S3", 0.030), ("S4", 0.080))
+
+
+def _gate(x_surface, height, dx, layers, layout, beta, speed):
+    """The gate holding the column (fluid at x < x_surface), lifted at ``speed`` until it is ``height`` up.
+
+    speed = 0: no gate (removed at t = 0). The gate is a plate of the same wall model as the tank
+    (seed 003 sec. 4.4: lifting speed 3.46 m/s); its motion starts impulsively at t = 0.
+    """
+    if speed == 0.0:
+        return None
+    plate = _plate(x_surface, 0.0, height, dx, layers, -1, layout, beta)
+    t_stop = height / speed
+
+    def lift(t):
+        return (0.0, speed * min(max(t, 0.0), t_stop))
+
+    def velocity(t):
+        return (0.0, speed if 0.0 <= t < t_stop else 0.0)
+
+    return plate, PrescribedMotion(lift, lambda t: t < t_stop, velocity=velocity,
+                                   acceleration=lambda t: (0.0, 0.0))
+
+
 def build_dam_break_etsin(params, wall_model, threads):
-    """Seed 003 sec. 4.4: H = 0.3 m column, 0.6 m long, in a 1.61 m tank (Lobovsky et al. 2014)."""
+    """Seed 003 sec. 4.4: H = 0.3 m column, 0.6 m long, in a 1.61 m tank (Lobovsky et al. 2014).
+
+    The column starts in hydrostatic equilibrium, p = rho0 g (H - y) (the seed does not say; a
+    column released at p = 0 rings with acoustic waves of amplitude rho0 g H).
+    """
     H = require_positive("H", params["H"])
     if params["dx"] is None:
         params["dx"] = H / 50.0
@@ -185,17 +216,29 @@ def build_dam_break_etsin(params, wall_model, threads):
     if params["c0"] is None:
         params["c0"] = 10.0 * math.sqrt(2.0 * GRAVITY * H)
     c0 = require_positive("c0", params["c0"])
+    gate_speed = params["gate_speed"]
+    if not gate_speed >= 0.0:
+        raise ParameterError(f"gate_speed must be >= 0 (0 = gate removed at t = 0), got {gate_speed}")
     preset = _preset(params, c0, params["h_factor"])
-    from .tanks import _gravity, snap
-
     length = snap(params["tank_length"], dx)
-    fluid = preset.fluid(shapes.rectangle((0.0, 0.0), (2.0 * H, H), dx), rho0=RHO0)
+    height = snap(2.0 * H, dx)
+    width = snap(2.0 * H, dx)
+    if width >= length:
+        raise ParameterError(f"tank_length ({length} m) must exceed the column length 2 H ({width} m)")
+    fluid = preset.fluid(shapes.rectangle((0.0, 0.0), (width, H), dx), rho0=RHO0,
+                         pressure=_hydrostatic(H, RHO0, 2))
     model = wall_model()
-    tank = tank_wall(model, (0.0, 0.0), (length, snap(2.0 * H, dx)), dx, preset.kernel, h)
-    walls = WallSystem(tank, model=model, name="tank")
-    sim = Simulation([fluid, walls], kernel=preset.kernel, h=h, gravity=_gravity(2), integrator=preset.integrator,
-                     threads=threads)
-    for name, y in (("S1", 0.003), ("S2", 0.015), ("S3", 0.030), ("S4", 0.080)):
+    tank = tank_wall(model, (0.0, 0.0), (length, height), dx, preset.kernel, h)
+    systems = [fluid, WallSystem(tank, model=model, name="tank")]
+    gate_model = wall_model()
+    gate = _gate(width, height, dx, wall_layers(preset.kernel, h, dx), getattr(gate_model, "wall_layout", "layers"),
+                 getattr(gate_model, "beta", 1.0), gate_speed)
+    if gate is not None:
+        systems.append(WallSystem(gate[0], model=gate_model, name="gate", movement=gate[1]))
+    margin = 6.0 * dx
+    sim = Simulation(systems, kernel=preset.kernel, h=h, gravity=_gravity(2), integrator=preset.integrator,
+                     threads=threads, domain=((-margin, -margin), (length + margin, 2.0 * height + margin)))
+    for name, y in SENSORS:
         sim.add(probes.WallPressure(name, (length, y)))
     sim.add(probes.SurgeFront("front"), probes.KineticEnergy(), probes.TotalMass())
     sim.reference = {"type": "dam-break-etsin", "H": H, "rho0": RHO0, "g": GRAVITY, "tank_length": length}
@@ -205,11 +248,14 @@ def build_dam_break_etsin(params, wall_model, threads):
 DAM_BREAK_ETSIN = Case(
     name="dam-break-etsin",
     description="ETSIN dam break of seed 003 sec. 4.4 (H = 0.3 m, 1.61 m tank, sensors at 3/15/30/80 mm), "
-                "seed 003 fluid",
+                "seed 003 fluid, dt = 5e-5 s; --set gate_speed=3.46 lifts the gate as in the experiment",
     builder=build_dam_break_etsin,
     parameters={**FLUID,
+                "dt": Parameter(5e-5, "fixed time step [s] (seed 003 sec. 4.4: 5e-5; 0 = the adaptive rule of "
+                                      "eq. 18-20)"),
                 "H": Parameter(0.3, "column height [m] (column length 2H)"),
                 "dx": Parameter(None, "particle spacing [m] (default H / 50 = 6 mm as in the seed)"),
                 "h_factor": Parameter(1.2, "h / dx"),
-                "tank_length": Parameter(1.61, "tank length [m]")},
+                "tank_length": Parameter(1.61, "tank length [m]"),
+                "gate_speed": Parameter(0.0, "gate lifting speed [m/s] (0 = removed at t = 0; experiment 3.46)")},
     t_end=1.5, probe_every=5e-4, output_every=0.02)
