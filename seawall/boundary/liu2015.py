@@ -25,13 +25,16 @@ the fluid only conditionally:
       <P_b>_j = P_j + rho_j c_s (v_j - v_w) . n_out + rho_j (g - a_b) . (r_b - r_j)      (eq. 26)
 
   (n_out = -n_b points out of the fluid into the wall: ours point into the
-  fluid, see docs/liu2015.md; v_w and a_b are the wall's prescribed velocity
-  and acceleration, zero for a fixed wall), and P_b is their CSPM average
+  fluid, see docs/liu2015.md; v_w and a_b are the wall's velocity and
+  acceleration, zero for a fixed wall; a wall whose particles stay put -- a
+  sliding lid with only a prescribed velocity -- has v_w . n = 0), and P_b is their CSPM average
   (eq. 27), sum_j V_j <P_b>_j W_bj / sum_j V_j W_bj, V_j = m_j / rho_j;
 * dummy velocity (eq. 28-29): free slip uses the wall's velocity v_w; no slip
   uses v_b = 2 v_w - <v_b>, <v_b> the CSPM average of the fluid velocity. With
-  no slip, v_b enters eq. 21 and the laminar viscous term of eq. 9 between
-  fluid particle i and dummy b (mu_b = mu of the fluid, rho_b = rho0).
+  no slip, v_b enters the laminar viscous term of eq. 9 between fluid particle
+  i and dummy b (mu_b = mu of the fluid, rho_b = rho0); eq. 21 takes the
+  dummy's normal velocity, 2 v_w . n - <v_b> . n (v_w . n with free slip),
+  with v_w . n = 0 for a wall whose particles stay put.
 
 Dummy particles with no fluid neighbour get P_b = background pressure and
 v_b = v_w. Each dummy particle needs its unit wall normal (from the geometry:
@@ -54,11 +57,14 @@ CONTINUITY_MODES = ("normal", "conditional", "off")
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, order, lo, inv_cell, ncell, period,
-                       prm, noslip, pw, vb):
+                       prm, noslip, surface_moves, pw, vb, vbn):
     """Dummy pressure by eq. 26-27 and dummy velocity by eq. 28-29 of seed 003 for every wall particle.
 
     ``nw`` are the wall normals pointing into the fluid; eq. 26's normal points
-    out of the fluid, hence the minus sign of the c_s term here.
+    out of the fluid, hence the minus sign of the c_s term here. ``vbn`` gets
+    the dummy's normal velocity v_b . n_b used by eq. 21; when the wall's
+    particles do not move (``surface_moves`` false, e.g. a sliding lid) the
+    wall's normal velocity is zero whatever its prescribed (tangential) velocity.
     """
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
@@ -71,6 +77,7 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         n0, n1, n2 = point_of(nw, b, dim)
         w0, w1, w2 = point_of(vw, b, dim)
+        wn = (w0 * n0 + w1 * n1 + w2 * n2) if surface_moves else 0.0
         ab0, ab1, ab2 = point_of(aw, b, dim)
         g0 = prm.gx - ab0
         g1 = prm.gy - ab1
@@ -89,7 +96,7 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
                     rj = rhof[f]
                     wv = mf[f] / rj * kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
                     u0, u1, u2 = point_of(vf, f, dim)
-                    vn = (u0 - w0) * n0 + (u1 - w1) * n1 + (u2 - w2) * n2
+                    vn = u0 * n0 + u1 * n1 + u2 * n2 - wn
                     est = pf[f] - rj * cs * vn + rj * (g0 * d0 + g1 * d1 + g2 * d2)
                     sw += wv
                     sp += est * wv
@@ -106,15 +113,18 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
             vb[b, 1] = 2.0 * w1 - sv1 / sw
             if dim == 3:
                 vb[b, 2] = 2.0 * w2 - sv2 / sw
+            # the mirror of the fluid's normal velocity about the wall's
+            vbn[b] = 2.0 * wn - (sv0 * n0 + sv1 * n1 + sv2 * n2) / sw
         else:
             vb[b, 0] = w0
             vb[b, 1] = w1
             if dim == 3:
                 vb[b, 2] = w2
+            vbn[b] = wn
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, pw, mw, rho_b, start, order, reach, lo, inv_cell,
+def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, vbn, pw, mw, rho_b, start, order, reach, lo, inv_cell,
                         ncell, period, prm, continuity, wall_nu, dv, drho):
     """Add seed 003 eq. 21 (density), eq. 22 (pressure) and, with ``wall_nu`` > 0, the eq. 9 viscous term.
 
@@ -153,11 +163,12 @@ def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, pw, mw, rho_b, sta
                     u0 = vi0 - w0
                     u1 = vi1 - w1
                     u2 = vi2 - w2
-                    vn = u0 * n0 + u1 * n1 + u2 * n2
                     if continuity == 0:
+                        vn = vi0 * n0 + vi1 * n1 + vi2 * n2 - vbn[b]
                         # eq. 21: only the normal relative motion, m_b (v_ib . n_b)(n_b . grad W)
                         dr += mb * vn * ndotgrad
                     elif continuity == 1:
+                        vn = u0 * n0 + u1 * n1 + u2 * n2
                         uu = u0 * u0 + u1 * u1 + u2 * u2
                         if vn * vn > 1e-18 * uu:
                             dr += mb * (u0 * d0 + u1 * d1 + u2 * d2) * f
@@ -234,6 +245,7 @@ class Liu2015Wall(WallModel):
         pa["rho"] = np.full(n, physics.rho0)
         pa["m"] = np.full(n, physics.rho0 * wall.spacing ** wall.dim)
         pa["v_dummy"] = pa["v"].copy()
+        pa["vn_dummy"] = np.zeros(n)
         self._wall_nu = 0.0
         if self.slip == "noslip":
             if self.nu is not None:
@@ -255,14 +267,15 @@ class Liu2015Wall(WallModel):
         cells = ctx.fluid_cells
         liu2015_wall_state(g.layout, pa["x"], pa["v"], pa["a"], pa["normal"], fp["x"], fp["v"], fp["p"], fp["rho"],
                            fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
-                           self._prm(ctx.physics), self.slip == "noslip", pa["p"], pa["v_dummy"])
+                           self._prm(ctx.physics), self.slip == "noslip", wall.movement is not None, pa["p"],
+                           pa["v_dummy"], pa["vn_dummy"])
 
     def interact(self, fluid, wall, ctx, dv, drho):
         g = ctx.grid
         pa = wall.particles
         fp = fluid.particles
         liu2015_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], pa["x"], pa["normal"], pa["v_dummy"],
-                            pa["p"], pa["m"], self._rho_b, wall.cells.start, wall.cells.order,
+                            pa["vn_dummy"], pa["p"], pa["m"], self._rho_b, wall.cells.start, wall.cells.order,
                             wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, g.period, ctx.physics,
                             CONTINUITY_MODES.index(self.continuity), self._wall_nu, dv, drho)
 

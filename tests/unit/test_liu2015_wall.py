@@ -132,13 +132,14 @@ def _has_fluid_neighbour(sim, x):
     return (d2 < support * support).any(axis=1)
 
 
-def _tank(velocity=None):
+def _tank(velocity=None, wall_velocity=None):
     depth = 0.2
     preset = liu2015(20.0, h_factor=1.3)
     rho0, g = 1000.0, 9.81
     fluid = preset.fluid(shapes.rectangle((0.0, 0.0), (0.3, depth), DX), rho0=rho0,
                          pressure=lambda x: rho0 * g * (depth - x[:, 1]), velocity=velocity)
-    wall = WallSystem(shapes.tank((0.0, 0.0), (0.3, 0.3), DX, layers=3), model=Liu2015Wall(), name="tank")
+    wall = WallSystem(shapes.tank((0.0, 0.0), (0.3, 0.3), DX, layers=3), model=Liu2015Wall(), name="tank",
+                      velocity=wall_velocity)
     sim = Simulation([fluid, wall], kernel=preset.kernel, h=1.3 * DX, gravity=(0.0, -g),
                      integrator=preset.integrator, threads=1)
     sim.evaluate(0.0)
@@ -171,6 +172,19 @@ def test_dummy_pressure_adds_rho_c_vn_for_fluid_moving_into_the_wall():
     rise = wall_move.particles["p"][wet] - wall_still.particles["p"][wet]
     # rho_j c_s u with rho_j within 0.5 % of rho0
     assert np.allclose(rise, rho0 * 20.0 * u, rtol=1e-2)
+
+
+def test_a_sliding_wall_has_no_normal_velocity_even_at_diagonal_corner_normals():
+    # a wall given only a (tangential) velocity stays put: its surface has no normal velocity, so eq. 26's
+    # c_s term and eq. 21 must not see v_w . n where the corner normals are diagonal (the cavity lid's corners)
+    sim_still, wall_still, *_ = _tank()
+    sim_slide, wall_slide, *_ = _tank(wall_velocity=(0.1, 0.0))
+    x = wall_slide.particles["x"]
+    wet = _has_fluid_neighbour(sim_slide, x)
+    corner = wet & (x[:, 1] < 0.0) & ((x[:, 0] < 0.0) | (x[:, 0] > 0.3))
+    assert corner.sum() >= 4
+    assert np.array_equal(wall_slide.particles["p"][wet], wall_still.particles["p"][wet])
+    assert np.array_equal(sim_slide.fluid.particles["drho"], sim_still.fluid.particles["drho"])
 
 
 def test_liu2015_needs_wall_normals():
