@@ -23,6 +23,9 @@ from seawall.errors import InstabilityError  # noqa: E402
 
 DOC = os.path.join(ROOT, "docs", "liu2015_results.md")
 IMG = os.path.join(ROOT, "docs", "img")
+SERIES = os.path.join(ROOT, "validation", "out", "liu2015")
+#: width of the running mean of the ETSIN sensor pressures, in t* = t sqrt(g/H)
+SMOOTH = 0.1
 
 
 def _run(sim, t_end):
@@ -154,9 +157,12 @@ def dam(lines, quick):
               "3.46 m/s as in the experiment), seed 003 fluid. t* = t sqrt(g/H), p* = p / (rho g H); "
               "S1 = 3 mm and S3 = 30 mm above the floor on the wall hit by the surge (the seed's monitoring points "
               "1 and 2). Seed 003 (text of sec. 4.4): peaks of about 3 (point 1) and 1.8 (point 2) at t* ~ 2.5.", "",
+              "Peak = largest sample (every 5e-4 s: the impact spike); smoothed peak = largest running mean over "
+              f"dt* = {SMOOTH} ({SMOOTH * np.sqrt(H / g) * 1e3:.0f} ms); plateau = mean over t* = 3-5. "
+              "Probe series: validation/out/liu2015/.", "",
               "| model | status | wall time | front x/H at t* = 0.5, 1.0, 1.5, 2.0 | impact t* (front reaches the wall) | "
-              "S1 peak p* (t*) | S3 peak p* (t*) |",
-              "| --- | --- | --- | --- | --- | --- | --- |"]
+              "S1 peak p* (t*) | S1 smoothed peak | S1 plateau | S3 peak p* (t*) | S3 smoothed peak | S3 plateau |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.6), dpi=100)
     runs = (("liu2015", "b-", 0.0), ("adami", "r--", 0.0), ("liu2012", "g-.", 0.0), ("monaghan-kajtar", "m:", 0.0),
             ("liu2015", "c-", 3.46))
@@ -166,7 +172,7 @@ def dam(lines, quick):
             model = f"{model}, gate {gate:g} m/s"
         t, pr, status, wall = _run(sim, t_end)
         if not t.size:
-            lines.append(f"| {model} | {status} | {wall:.0f} s | - | - | - | - |")
+            lines.append(f"| {model} | {status} | {wall:.0f} s |" + " - |" * 8)
             continue
         ts = t * np.sqrt(g / H)
         front = pr["front"] / H
@@ -180,8 +186,17 @@ def dam(lines, quick):
         for nm in ("S1", "S3"):
             p = pr[nm] / (rho0 * g * H)
             k = int(np.argmax(p))
-            peaks.append(f"{p[k]:.2f} ({ts[k]:.2f})")
-        lines.append(f"| {model} | {status} | {wall:.0f} s | {', '.join(fr)} | {impact} | {peaks[0]} | {peaks[1]} |")
+            width = max(1, int(round(SMOOTH / (ts[1] - ts[0]))))
+            smooth = np.convolve(p, np.ones(width) / width, mode="valid")
+            ks = int(np.argmax(smooth))
+            plateau = (ts >= 3.0) & (ts <= 5.0)
+            peaks += [f"{p[k]:.2f} ({ts[k]:.2f})", f"{smooth[ks]:.2f} ({ts[ks + width // 2]:.2f})",
+                      f"{p[plateau].mean():.2f}" if plateau.any() else "-"]
+        os.makedirs(SERIES, exist_ok=True)
+        np.savetxt(os.path.join(SERIES, f"etsin_{model.replace(', ', '_').replace(' ', '_')}.csv"),
+                   np.column_stack([t] + [pr[nm] for nm in ("front", "S1", "S2", "S3", "S4")]), delimiter=",",
+                   header="t,front,S1,S2,S3,S4", comments="", fmt="%.6g")
+        lines.append(f"| {model} | {status} | {wall:.0f} s | {', '.join(fr)} | {impact} | " + " | ".join(peaks) + " |")
         axes[0].plot(ts, front, style, lw=1.1, label=model)
         axes[1].plot(ts, pr["S1"] / (rho0 * g * H), style, lw=0.9, label=model)
         axes[2].plot(ts, pr["S3"] / (rho0 * g * H), style, lw=0.9, label=model)
@@ -215,9 +230,32 @@ def main(argv=None):
         cavity(lines, args.quick, 100)
     if "dam" in todo:
         dam(lines, args.quick)
+    text = _merge_sections(lines)
     with open(DOC, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+        f.write(text)
+    print(text)
+
+
+def _sections(lines):
+    """Split markdown lines into (header, lines) blocks at the '## ' headers; the preamble's header is ''."""
+    blocks = [("", [])]
+    for line in lines:
+        if line.startswith("## "):
+            blocks.append((line, []))
+        blocks[-1][1].append(line)
+    return blocks
+
+
+def _merge_sections(lines):
+    """The new sections replace their namesakes in the existing results file; the others are kept."""
+    new = _sections(lines)
+    if not os.path.exists(DOC):
+        return "\n".join(lines) + "\n"
+    with open(DOC) as f:
+        old = _sections(f.read().splitlines())
+    fresh = dict(new[1:])
+    merged = [new[0]] + [(h, fresh.pop(h, body)) for h, body in old[1:]] + list(fresh.items())
+    return "\n".join(line for _, body in merged for line in body).rstrip("\n") + "\n"
 
 
 if __name__ == "__main__":
