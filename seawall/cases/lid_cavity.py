@@ -73,6 +73,8 @@ def build_cavity(params, wall_model, threads):
     background = params["background"] * rho0 * c0 * c0
     block = shapes.rectangle((0.0, 0.0), (side, side), dx)
     if kind == "standard":
+        if params["dt"]:
+            raise ParameterError("dt fixes the step of the liu2015 fluid; the standard fluid takes cfl")
         kernel = CubicSpline()
         fluid = FluidSystem(block, rho0=rho0, eos=Linear(c0=c0, background_pressure=background),
                             viscosity=LaminarViscosity(nu=nu),

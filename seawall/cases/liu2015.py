@@ -123,7 +123,7 @@ def build_plates(params, wall_model, threads):
     width = require_positive("block", params["block"])
     length = require_positive("plate_length", params["plate_length"])
     gap = params["gap"]
-    if not 0.0 <= gap and gap + width <= length:
+    if not (0.0 <= gap and gap + width <= length):
         raise ParameterError(f"gap ({gap} m) + block ({width} m) must fit on the plates ({length} m)")
     speed = require_positive("speed", params["speed"])
     model = wall_model()

@@ -74,3 +74,16 @@ def test_cavity_re1_centrelines_within_5_percent_at_steady_state(cavity_re1):
 def test_cavity_re1_centrelines_stay_within_5_percent(cavity_re1):
     _, _, _, (_, _, du, dv) = cavity_re1
     assert np.abs(du).max() < 0.05 and np.abs(dv).max() < 0.05
+
+
+def test_case_parameters_are_checked():
+    from seawall.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="gap"):
+        build("plates", boundary="liu2015", gap=0.02)
+    with pytest.raises(ParameterError, match="fluid"):
+        build("cavity", boundary="liu2015-noslip", fluid="water")
+    with pytest.raises(ParameterError, match="no-slip"):
+        build("cavity", boundary="liu2015", fluid="liu2015")
+    with pytest.raises(ParameterError, match="gate_speed"):
+        build("dam-break-etsin", boundary="liu2015", gate_speed=-1.0)
