@@ -32,17 +32,15 @@ FIRST_IMPACT_END = 4.0
 
 
 def _run(sim, t_end):
-    """Run; on instability keep what was sampled. Returns (times, {probe: values}, status)."""
+    """Run; on instability keep what was sampled. Returns (times, {probe: values}, status, wall time)."""
     start = time.perf_counter()
     status = "completed"
     try:
         sim.run(t_end, progress=False)
     except InstabilityError as exc:
         status = f"unstable at t = {exc.time:.4g} s"
-    t = np.array(sim.probe_times)
-    vals = np.array(sim.probe_values)
-    probes = {p.name: vals[:, k] for k, p in enumerate(sim.probes)} if len(vals) else {}
-    return t, probes, status, time.perf_counter() - start
+    sampled = sim.result({})
+    return sampled.times, sampled.probes, status, time.perf_counter() - start
 
 
 def plates(lines, quick):

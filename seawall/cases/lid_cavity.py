@@ -39,7 +39,7 @@ from ..eos import Linear
 from ..errors import ParameterError, require_positive
 from ..fluid import DeltaSPH, FluidSystem, LaminarViscosity
 from ..fluid.presets import liu2015
-from ..integrators import PredictedLeapFrog, Symplectic
+from ..integrators import Symplectic
 from ..kernels import CubicSpline
 from ..sampling import FieldProbe, interpolate
 from ..simulation import Simulation
@@ -82,10 +82,10 @@ def build_cavity(params, wall_model, threads):
         integrator = Symplectic(cfl=params["cfl"])
     else:
         preset = liu2015(c0, alpha=params["alpha"], delta=params["delta"], nu=nu, h_factor=h_factor,
-                         background_pressure=background)
+                         background_pressure=background, dt=params["dt"])
         kernel = preset.kernel
         fluid = preset.fluid(block, rho0=rho0)
-        integrator = PredictedLeapFrog(dt=params["dt"]) if params["dt"] else preset.integrator
+        integrator = preset.integrator
     if params["layers"] is not None and params["layers"] < 1:
         raise ParameterError(f"layers must be >= 1, got {params['layers']}")
     layers = params["layers"] or wall_layers(kernel, h, dx)

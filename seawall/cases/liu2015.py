@@ -43,13 +43,8 @@ FLUID = {
 
 
 def _preset(params, c0, h_factor):
-    preset = liu2015(c0, alpha=params["alpha"], delta=params["delta"], nu=params["nu"], h_factor=h_factor,
-                     background_pressure=params.get("background_pressure", 0.0) or 0.0)
-    if params["dt"]:
-        from ..integrators import PredictedLeapFrog
-
-        preset.integrator = PredictedLeapFrog(dt=require_positive("dt", params["dt"]))
-    return preset
+    return liu2015(c0, alpha=params["alpha"], delta=params["delta"], nu=params["nu"], h_factor=h_factor,
+                   dt=params["dt"])
 
 
 # ---------------------------------------------------------------- probes

@@ -73,7 +73,7 @@ def marrone2011(c0, *, alpha=0.02, delta=0.1, h_factor=1.3):
 
 
 def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient=True,
-            background_pressure=0.0):
+            background_pressure=0.0, dt=None):
     """The fluid of Liu et al. (2015), seed 003 sec. 2 (Tait, cubic spline, laminar + artificial viscosity,
     delta-SPH, leap-frog with the dt rule of eq. 18-20).
 
@@ -94,6 +94,8 @@ def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient
         see :class:`~seawall.fluid.DeltaSPH`); False computes it as written.
     background_pressure : float
         Constant added to the Tait pressure [Pa], 0 in seed 003.
+    dt : float, optional
+        Fixed time step [s] (seed 003 runs its cases with one); default the rule of eq. 18-20.
     """
     viscosity = []
     if alpha > 0:
@@ -103,7 +105,8 @@ def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient
     return FluidPreset(name="liu2015", eos=Tait(c0=c0, gamma=7.0, background_pressure=background_pressure),
                        viscosity=viscosity or None,
                        density_diffusion=DeltaSPH(delta=delta, lagged_gradient=lagged_gradient) if delta > 0 else None,
-                       kernel=CubicSpline(), h_factor=h_factor, integrator=PredictedLeapFrog(rule="liu2015"))
+                       kernel=CubicSpline(), h_factor=h_factor,
+                       integrator=PredictedLeapFrog(dt=dt) if dt else PredictedLeapFrog(rule="liu2015"))
 
 
 PRESETS = {"marrone2011": marrone2011, "liu2015": liu2015}
