@@ -224,7 +224,7 @@ def _restart(sim, path):
 
 def cmd_run(args):
     from . import output, rundir
-    from .errors import InstabilityError, OutputError
+    from .errors import InstabilityError, OutputError, ParameterError
     from .provenance import provenance
     from .sampling import LineSampler, parse_line
 
@@ -237,6 +237,12 @@ def cmd_run(args):
     rundir.check_out_path(out)
     # everything that can be refused is checked before the run directory is created or cleared
     lines = [parse_line(text, sim.dim) for text in args.line or []]
+    # probes and the sampling interval first: a checkpoint carries the probe list and schedule
+    sim.add(every=args.probe_every or case.probe_every)
+    if args.diagnostics:
+        from .compare import MinWallDistance
+
+        sim.add(MinWallDistance())
     if args.restart:
         _restart(sim, args.restart)
         if t_end <= sim.time:
@@ -247,7 +253,6 @@ def cmd_run(args):
     sim.metadata["provenance"] = record
     if args.restart:
         sim.metadata["restarted_from"] = {"checkpoint": args.restart, "time": sim.time, "step": sim.step}
-    sim.add(every=args.probe_every or case.probe_every)
     if not args.no_vtk:
         sim.add(output.VTK(out, every=args.output_every or case.output_every))
     checkpoint = output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0)
@@ -256,10 +261,6 @@ def cmd_run(args):
     for k, (start, end, n) in enumerate(lines, start=1):
         sim.add(LineSampler(out, start, end, n, every=args.output_every or case.output_every, name=str(k)))
         line_files.append(f"line_{k}.csv")
-    if args.diagnostics:
-        from .compare import MinWallDistance
-
-        sim.add(MinWallDistance())
     if hasattr(sim, "headline"):   # simulations without a fluid (dem-box) describe themselves
         what = sim.headline()
     else:
@@ -271,10 +272,14 @@ def cmd_run(args):
     result = None
     try:
         result = sim.run(t_end, progress=not args.no_progress, probe_csv=os.path.join(out, "probes.csv"))
+    except ParameterError as exc:   # raised before any file is written: an existing file refuses to continue
+        raise ParameterError(f"--restart: {exc}" if args.restart else str(exc)) from None
     except InstabilityError as exc:
         status, error, code = "unstable", str(exc), EXIT_UNSTABLE
     except OutputError as exc:
         status, error, code = "io-error", str(exc), EXIT_IO_ERROR
+    except OSError as exc:   # a simulation without the run loop's own output checks (dem-box)
+        status, error, code = "io-error", str(rundir.output_error(exc, exc.filename or out)), EXIT_IO_ERROR
     except KeyboardInterrupt as exc:
         name = getattr(exc, "signal_name", "SIGINT")
         status, code = "interrupted", EXIT_TERMINATED if name == "SIGTERM" else EXIT_INTERRUPTED
@@ -292,14 +297,15 @@ def cmd_run(args):
     summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
                         "checkpoint": "checkpoint.h5", "escaped": "escaped.csv",
                         **({"lines": line_files} if line_files else {})}
-    try:
-        _write_escaped(os.path.join(out, "escaped.csv"), sim)
-        rundir.write_json(os.path.join(out, "summary.json"), _jsonable(summary))
-    except OSError as exc:
-        if status != "io-error":   # an io-error has already said what went wrong
-            status, code = "io-error", EXIT_IO_ERROR
-            error = str(rundir.output_error(exc, os.path.join(out, "summary.json")))
-        summary["status"] = status
+    for name, write in (("escaped.csv", lambda path: _write_escaped(path, sim)),
+                        ("summary.json", lambda path: rundir.write_json(path, _jsonable(summary)))):
+        try:
+            write(os.path.join(out, name))
+        except OSError as exc:
+            if status != "io-error":   # an io-error has already said what went wrong
+                status, code = "io-error", EXIT_IO_ERROR
+                error = str(rundir.output_error(exc, os.path.join(out, name)))
+                summary.update(status=status, error=error)
     _print_summary(summary)
     if error:
         print(f"seawall: {'interrupted' if status == 'interrupted' else 'error'}: {error}", file=sys.stderr)

@@ -2,7 +2,6 @@
 
 import os
 
-import numpy as np
 
 from .errors import require_positive
 from .schedule import first_due_after, next_due

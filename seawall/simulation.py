@@ -477,19 +477,27 @@ class Simulation:
         resume_after = self.time if self.step > 0 else None
         self._output_dirs = sorted({out.directory for out in self.outputs}
                                    | ({os.path.dirname(os.path.abspath(probe_csv))} if probe_csv else set()))
-        for out in self.outputs:
-            with self._writing(getattr(out, "path", out.directory)):
-                out.open(self, resume_after=resume_after)
         if probe_csv is not None and self.probes:
             from .io.csvout import ProbeCSVWriter
 
+            # first: an existing probes.csv with other columns refuses the restart before any file is touched
             with self._writing(probe_csv):
+                os.makedirs(os.path.dirname(os.path.abspath(probe_csv)), exist_ok=True)
                 try:
                     self.probe_csv = ProbeCSVWriter(probe_csv, [p.name for p in self.probes],
                                                     resume=resume_after is not None,
                                                     resume_after=resume_after if resume_after is not None else 0.0)
-                except ValueError as exc:   # an existing probes.csv with other columns
+                except ValueError as exc:
                     raise ParameterError(str(exc)) from None
+        try:
+            for out in self.outputs:
+                with self._writing(getattr(out, "path", out.directory)):
+                    out.open(self, resume_after=resume_after)
+        except BaseException:
+            if self.probe_csv is not None:
+                self.probe_csv.close()
+                self.probe_csv = None
+            raise
         self._initialise()
         startup = self._startup_s + _time.perf_counter() - wall_start
         self._startup_s = 0.0
