@@ -131,11 +131,11 @@ BOUNDARY_OPTION_KEYS = {"K", "beta", "wall_nu", "clip_negative", "order", "recta
                         "continuity"}
 
 
-def require_noslip(model, case):
+def require_noslip(model, case, hint=""):
     """Cases whose physics is the no-slip condition (channel flows) refuse free-slip walls."""
     if getattr(model, "slip", None) == "free":
         raise ParameterError(f"case {case!r} needs no-slip walls: use --boundary adami-noslip "
-                             "(or a ghost model with --set slip=noslip)")
+                             f"(or a ghost model with --set slip=noslip){hint}")
 
 
 def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):

@@ -89,7 +89,8 @@ def _channel(params, wall_model, threads, *, force, wall_speed):
              WallSystem(top, model=wall_model(), velocity=(wall_speed, 0.0), name="top")]
     if not params["free_slip"]:
         for wall in walls:
-            require_noslip(wall.model, "couette" if wall_speed else "poiseuille")
+            require_noslip(wall.model, "couette" if wall_speed else "poiseuille",
+                           "; --set free_slip=true runs the plug flow of free-slip walls on purpose")
     margin = (layers + 2) * dx
     sim = Simulation([fluid, *walls], kernel=kernel, h=h, gravity=(force, 0.0),
                      integrator=Symplectic(cfl=params["cfl"]), threads=threads,
