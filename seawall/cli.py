@@ -228,9 +228,9 @@ def cmd_run(args):
     from .provenance import provenance
     from .sampling import LineSampler, parse_line
 
-    record = provenance(args.argv)
     rundir.check_out_path(args.out)
     case, sim = _build(args)
+    record = provenance(args.argv)   # after the build: --threads is applied there
     args.running["sim"] = sim
     t_end = args.t_end or case.t_end
     out = args.out or os.path.join("runs", f"{case.name}-{args.boundary}")

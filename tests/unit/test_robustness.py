@@ -263,10 +263,8 @@ def test_catch_up_always_moves_forward():
 def test_api_run_with_a_tiny_interval_finishes(tmp_path):
     sim = sw.cases.build("hydrostatic", dx=0.05, length=0.5, depth=0.2, height=0.3)
     sim.add(sw.output.Checkpoint(str(tmp_path), every=1e-300), every=1e-300)
-    started = time.monotonic()
-    res = sim.run(1.0, progress=False, max_steps=3)
+    res = sim.run(1.0, progress=False, max_steps=3)   # the catch-up loop used to never return here
     assert sim.step == 3 and len(res.times) == 4     # a sample at t = 0 and after every step
-    assert time.monotonic() - started < 60           # generous: a hang would never return
 
 
 # ------------------------------------------------------------------ 6, 7, 10. bad input is one line, exit 2
