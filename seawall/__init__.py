@@ -22,6 +22,7 @@ from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC
 from . import coupling, probes, output
 from .simulation import RunResult, Simulation
 from .openboundary import InFlow, Lastiwka, OpenBoundary, OutFlow
+from . import cases  # noqa: E402  (sw.cases.build("dam-break", ...), as the README shows)
 
 __version__ = "0.1.0"
 
@@ -30,5 +31,5 @@ __all__ = [
     "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
     "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
     "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output", "coupling",
-    "OpenBoundary", "InFlow", "OutFlow", "Lastiwka",
+    "OpenBoundary", "InFlow", "OutFlow", "Lastiwka", "cases",
 ]

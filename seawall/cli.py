@@ -14,6 +14,11 @@ import time
 
 EXIT_BAD_INPUT = 2
 EXIT_UNSTABLE = 3
+#: an output file could not be written (disk full, output directory removed during the run)
+EXIT_IO_ERROR = 4
+#: stopped by Ctrl-C (SIGINT) / by SIGTERM: 128 + the signal's number, as a shell reports it
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 
 def _parse_sets(items):
@@ -66,9 +71,33 @@ class _OneLineParser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"seawall: error: {message}\n")
 
 
+class _VersionAction(argparse.Action):
+    """``seawall --version``; the git commit is looked up only when asked."""
+
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from .provenance import version_text
+
+        print(version_text())
+        parser.exit(0)
+
+
+def _time_of_snapshot(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--time must be a number, got {text!r}") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"--time must be a finite time >= 0, got {text!r}")
+    return value
+
+
 def build_parser():
     parser = _OneLineParser(
         prog="seawall", description="SPH with swappable, validated solid walls.")
+    parser.add_argument("--version", action=_VersionAction, help="print the version (and git commit) and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_OneLineParser)
     sub.required = True
 
@@ -87,7 +116,10 @@ def build_parser():
     run.add_argument("--probe-every", type=_positive("--probe-every"), help="probe sampling interval [s]")
     run.add_argument("--checkpoint-every", type=_positive("--checkpoint-every"),
                      help="HDF5 checkpoint interval [s] (default t_end/10)")
-    run.add_argument("--restart", metavar="CHECKPOINT", help="continue from a checkpoint of the same case")
+    run.add_argument("--restart", metavar="CHECKPOINT",
+                     help="continue from a checkpoint of the same case, wall model and parameters")
+    run.add_argument("--overwrite", action="store_true",
+                     help="reuse an --out that holds an earlier run: delete seawall's files in it first")
     run.add_argument("--line", action="append", metavar="x0,y0:x1,y1:n",
                      help="sample pressure and velocity at n points on a line every --output-every seconds "
                           "into line_<k>.csv (repeatable; x0,y0,z0:x1,y1,z1:n in 3D)")
@@ -116,7 +148,7 @@ def build_parser():
 
     plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
     plot.add_argument("run_dir")
-    plot.add_argument("--time", type=float, help="snapshot time [s] (default: the last one)")
+    plot.add_argument("--time", type=_time_of_snapshot, help="snapshot time [s] (default: the last one)")
     plot.add_argument("--field", default="pressure", help="point field to colour by (default pressure)")
     plot.add_argument("--out", help="PNG path (default RUN_DIR/snapshot.png)")
     plot.add_argument("--probes", action="store_true", help="also draw RUN_DIR/probes.png")
@@ -165,74 +197,134 @@ def _build(args):
     return case, sim
 
 
-def cmd_run(args):
-    from . import output
-    from .errors import InstabilityError
+def _interval_flags(args):
+    return (("--probe-every", args.probe_every), ("--output-every", args.output_every),
+            ("--checkpoint-every", args.checkpoint_every))
 
+
+def _check_intervals(args, sim):
+    """An output interval below the time step would write at every step; refuse it by name."""
+    given = [(flag, value) for flag, value in _interval_flags(args) if value is not None]
+    if not given:
+        return
+    dt = sim.first_time_step() if hasattr(sim, "first_time_step") else sim.dt
+    for flag, value in given:
+        if value < dt:
+            raise _bad_input(f"{flag} {value:g} s is below the first time step {dt:.3g} s; give at least that")
+
+
+def _restart(sim, path):
+    from .errors import ParameterError
+
+    try:
+        sim.restart(path)
+    except ParameterError as exc:
+        raise ParameterError(f"--restart: {exc}") from None
+
+
+def cmd_run(args):
+    from . import output, rundir
+    from .errors import InstabilityError, OutputError, ParameterError
+    from .provenance import provenance
+    from .sampling import LineSampler, parse_line
+
+    rundir.check_out_path(args.out)
     case, sim = _build(args)
+    record = provenance(args.argv)   # after the build: --threads is applied there
+    args.running["sim"] = sim
     t_end = args.t_end or case.t_end
     out = args.out or os.path.join("runs", f"{case.name}-{args.boundary}")
-    os.makedirs(out, exist_ok=True)
+    rundir.check_out_path(out)
+    # everything that can be refused is checked before the run directory is created or cleared
+    lines = [parse_line(text, sim.dim) for text in args.line or []]
+    # probes and the sampling interval first: a checkpoint carries the probe list and schedule
     sim.add(every=args.probe_every or case.probe_every)
-    if not args.no_vtk:
-        sim.add(output.VTK(out, every=args.output_every or case.output_every))
-    sim.add(output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0))
-    lines = []
-    for k, text in enumerate(args.line or [], start=1):
-        from .sampling import LineSampler, parse_line
-
-        start, end, n = parse_line(text, sim.dim)
-        sim.add(LineSampler(out, start, end, n, every=args.output_every or case.output_every, name=str(k)))
-        lines.append(f"line_{k}.csv")
     if args.diagnostics:
         from .compare import MinWallDistance
 
         sim.add(MinWallDistance())
     if args.restart:
-        sim.restart(args.restart)
+        _restart(sim, args.restart)
+        if t_end <= sim.time:
+            raise _bad_input(f"--t-end {t_end:g} s must exceed the checkpoint's time {sim.time:g} s")
+    _check_intervals(args, sim)
+    rundir.prepare(out, overwrite=args.overwrite, restart=args.restart)
+
+    sim.metadata["provenance"] = record
+    if args.restart:
+        sim.metadata["restarted_from"] = {"checkpoint": args.restart, "time": sim.time, "step": sim.step}
+    if not args.no_vtk:
+        sim.add(output.VTK(out, every=args.output_every or case.output_every))
+    checkpoint = output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0)
+    sim.add(checkpoint)
+    line_files = []
+    for k, (start, end, n) in enumerate(lines, start=1):
+        sim.add(LineSampler(out, start, end, n, every=args.output_every or case.output_every, name=str(k)))
+        line_files.append(f"line_{k}.csv")
     if hasattr(sim, "headline"):   # simulations without a fluid (dem-box) describe themselves
         what = sim.headline()
     else:
         what = (f"boundary {args.boundary}, {sim.dim}D, {sim.fluid.n} fluid + {sum(w.n for w in sim.walls)} wall "
                 f"particles, dx = {sim.fluid.spacing:g} m")
     print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
-    status = "completed"
-    error = None
+    status, error, code = "completed", None, 0
     started = time.perf_counter()
+    result = None
     try:
         result = sim.run(t_end, progress=not args.no_progress, probe_csv=os.path.join(out, "probes.csv"))
-        summary = result.summary
+    except ParameterError as exc:   # raised before any file is written: an existing file refuses to continue
+        raise ParameterError(f"--restart: {exc}" if args.restart else str(exc)) from None
     except InstabilityError as exc:
-        status = "unstable"
-        error = str(exc)
-        summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
-                              steps=sim.step, startup=0.0)
-        result = None
-    except KeyboardInterrupt:
-        status = "interrupted"
-        error = f"interrupted at t = {sim.time:.6g} s"
-        summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
-                              steps=sim.step, startup=0.0)
-        result = None
-    summary = {"case": case.name, "boundary": args.boundary, **summary, "status": status}
+        status, error, code = "unstable", str(exc), EXIT_UNSTABLE
+    except OutputError as exc:
+        status, error, code = "io-error", str(exc), EXIT_IO_ERROR
+    except OSError as exc:   # a simulation without the run loop's own output checks (dem-box)
+        status, error, code = "io-error", str(rundir.output_error(exc, exc.filename or out)), EXIT_IO_ERROR
+    except KeyboardInterrupt as exc:
+        name = getattr(exc, "signal_name", "SIGINT")
+        status, code = "interrupted", EXIT_TERMINATED if name == "SIGTERM" else EXIT_INTERRUPTED
+        error = f"interrupted by {name} at t = {sim.time:.6g} s after {sim.step} steps" + (
+            f"; continue with --restart {checkpoint.last_written}" if checkpoint.last_written else "")
+    if result is None:
+        result = _partial_result(sim, started)
+    summary = {"case": case.name, "boundary": args.boundary, **result.summary, "status": status}
     if error:
         summary["error"] = error
-    if result is not None:
+    if hasattr(result, "probes"):
         summary["probes"] = _probe_summary(result)
-        summary["diagnostics"] = _diagnostics(sim, result)
-    _write_escaped(os.path.join(out, "escaped.csv"), sim)
+        if hasattr(sim, "fluid"):
+            summary["diagnostics"] = _diagnostics(sim, result)
     summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
                         "checkpoint": "checkpoint.h5", "escaped": "escaped.csv",
-                        **({"lines": lines} if lines else {})}
-    with open(os.path.join(out, "summary.json"), "w") as fh:
-        json.dump(_jsonable(summary), fh, indent=2)
+                        **({"lines": line_files} if line_files else {})}
+    for name, write in (("escaped.csv", lambda path: _write_escaped(path, sim)),
+                        ("summary.json", lambda path: rundir.write_json(path, _jsonable(summary)))):
+        try:
+            write(os.path.join(out, name))
+        except OSError as exc:
+            if status != "io-error":   # an io-error has already said what went wrong
+                status, code = "io-error", EXIT_IO_ERROR
+                error = str(rundir.output_error(exc, os.path.join(out, name)))
+                summary.update(status=status, error=error)
     _print_summary(summary)
-    if status == "unstable":
-        print(f"seawall: error: {error}", file=sys.stderr)
-        return EXIT_UNSTABLE
-    if status == "interrupted":
-        return 130
-    return 0
+    if error:
+        print(f"seawall: {'interrupted' if status == 'interrupted' else 'error'}: {error}", file=sys.stderr)
+    return code
+
+
+def _partial_result(sim, started):
+    """Summary and probe series of a run that stopped early (blow-up, full disk, signal)."""
+    if hasattr(sim, "summary_so_far"):
+        return sim.result(sim.summary_so_far())
+    import numpy as np
+
+    from .simulation import RunResult
+
+    summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
+                          steps=sim.step, startup=0.0)
+    values = np.asarray(sim.probe_values, dtype=np.float64).reshape(len(sim.probe_times), len(sim.probes))
+    return RunResult(np.asarray(sim.probe_times), {p.name: values[:, k].copy() for k, p in enumerate(sim.probes)},
+                     summary, [])
 
 
 def _probe_summary(result):
@@ -266,8 +358,10 @@ def _write_escaped(path, sim):
     """escaped.csv: time, id, position at removal and the face of the domain crossed, one row per particle."""
     from .diagnostics import escape_sides
 
+    from .io.vtk import _atomic_write
+
     coords = ["x", "y", "z"][:sim.dim]
-    with open(path, "w") as fh:
+    with _atomic_write(path, "w") as fh:
         fh.write(",".join(["time", "id", *coords, "side"]) + "\n")
         for rec, side in zip(sim.escaped, escape_sides(sim.escaped, sim.grid)):
             fh.write(",".join([f"{rec[0]:.9g}", str(int(rec[1])), *(f"{c:.9g}" for c in rec[2:2 + sim.dim]), side])
@@ -371,17 +465,29 @@ def cmd_bench(args):
 
 def main(argv=None):
     from .errors import ParameterError
+    from .interrupts import stop_on_signals
 
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = ["seawall", *(sys.argv[1:] if argv is None else argv)]
+    args.running = {}   # the simulation of `run`, for the signal handler
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
                 "plot": cmd_plot, "compare": cmd_compare,
                 "validate": cmd_validate}
     try:
+        if args.command == "run":
+            with stop_on_signals(lambda: args.running.get("sim")):
+                return handlers[args.command](args)
         return handlers[args.command](args)
     except ParameterError as exc:
         print(f"seawall: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt as exc:
+        # before a run directory was prepared (or in a command without one): nothing to keep
+        name = getattr(exc, "signal_name", "SIGINT")
+        when = " before the run started" if args.command == "run" else ""
+        print(f"seawall: interrupted by {name}{when}", file=sys.stderr)
+        return EXIT_TERMINATED if name == "SIGTERM" else EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

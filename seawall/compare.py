@@ -27,7 +27,6 @@ Metrics, per model (a cell is "n/a" only where the case has nothing to measure):
 """
 
 import csv
-import json
 import math
 import os
 from concurrent.futures import ProcessPoolExecutor
@@ -39,6 +38,7 @@ from numba import njit, prange
 from .diagnostics import pressure_noise
 from .errors import ParameterError
 from .probes import Probe, WallPressure
+from .rundir import write_json
 
 ENERGY_CONSERVING_CASES = {"particle-in-box"}
 COLUMNS = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
@@ -137,8 +137,7 @@ def run_one(case_name, boundary, dx, t_end, params, out_dir, threads):
         times, probes = res.times, res.probes
     summary = {**summary, "status": status, "case": case_name, "boundary": boundary}
     summary["metrics"] = metrics(case_name, sim, times, probes, summary)
-    with open(os.path.join(run_dir, "summary.json"), "w") as fh:
-        json.dump(_plain(summary), fh, indent=2)
+    write_json(os.path.join(run_dir, "summary.json"), _plain(summary))
     return _plain({"summary": summary, "times": times.tolist(), "probes": {k: v.tolist() for k, v in probes.items()}})
 
 

@@ -39,6 +39,7 @@ from .neighbors import CellGrid, cell_index, layout_tag, neighbour_range, point_
 from .output import VTK, Checkpoint
 from .particles import ParticleArrays
 from .probes import Probe
+from .schedule import first_due_after, next_due
 
 STEPS_PER_CONTACT = 50
 
@@ -340,8 +341,7 @@ class DEMSimulation:
         self.probe_values.append(row)
         if self._csv is not None:
             self._csv.append(self.time, row)
-        while self._next_probe <= self.time + 1e-12:
-            self._next_probe += self.probe_every
+        self._next_probe = next_due(self._next_probe, self.probe_every, self.time)
 
     def _write_outputs(self, force=False):
         pa = self.dem.particles
@@ -351,8 +351,7 @@ class DEMSimulation:
             if isinstance(out, VTK):
                 self._series[id(out)].write(self.time, pa["x"], {"velocity": pa["v"], "radius": pa["radius"],
                                                                  "overlap": pa["overlap"], "id": pa["id"]})
-                while out.next_time <= self.time + 1e-12:
-                    out.next_time += out.every
+                out.next_time = next_due(out.next_time, out.every, self.time)
             else:
                 out.write(self)
 
@@ -369,7 +368,7 @@ class DEMSimulation:
                 resume = resume_after is not None
                 self._series[id(out)] = PVDSeries(out.directory, "dem", resume=resume, resume_after=resume_after)
                 if resume:
-                    out.next_time = (int(np.floor(resume_after / out.every + 1e-9)) + 1) * out.every
+                    out.next_time = first_due_after(resume_after, out.every)
                 elif out.walls:
                     for w in self.walls:
                         PVDSeries(out.directory, f"wall_{w.name}").write(0.0, w.x, {"radius": w.radius})
@@ -454,11 +453,18 @@ class DEMSimulation:
                         {"time": self.time, "step": self.step, "dim": self.dim, "metadata": self.metadata})
 
     def restart(self, path):
+        from . import restart_checks as checks
         from .io.checkpoint import load_checkpoint
 
-        arrays, attrs = load_checkpoint(path)
-        if attrs.get("dim") != self.dim or arrays["dem"]["x"].shape[0] != self.dem.n:
+        try:
+            arrays, attrs = load_checkpoint(path)
+        except (OSError, ValueError) as exc:
+            raise ParameterError(str(exc)) from None
+        if attrs.get("dim") != self.dim or "dem" not in arrays or arrays["dem"]["x"].shape[0] != self.dem.n:
             raise ParameterError(f"checkpoint {path} does not match this DEM simulation")
+        checks.check_setup(path, attrs, self.metadata)
+        checks.check_clock(path, attrs, need_next_dt=False)
+        checks.check_arrays(path, "the DEM elements", arrays["dem"], self.dem.particles.as_dict())
         for name, a in arrays["dem"].items():
             self.dem.particles[name] = a
         self.time = float(attrs["time"])

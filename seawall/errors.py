@@ -3,6 +3,9 @@
 `ParameterError` is for bad user input: its message names the parameter and
 what is allowed, and the CLI prints it as one line without a traceback.
 `InstabilityError` is raised when a run blows up; it carries where and when.
+`OutputError` is raised when an output file cannot be written (disk full,
+output directory removed during the run); `RunInterrupted` when a signal
+(Ctrl-C, SIGTERM) stopped a run.
 """
 
 
@@ -29,6 +32,28 @@ class InstabilityError(SeawallError, RuntimeError):
         self.particle_id = particle_id
         self.position = position
         self.checkpoint = checkpoint
+
+
+class OutputError(SeawallError, OSError):
+    """An output file could not be written; ``path`` is the file (or directory) concerned."""
+
+    def __init__(self, message, *, path=None):
+        super().__init__(message)
+        self.path = path
+
+    def __str__(self):
+        return self.args[0] if self.args else ""
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by a signal; ``signal_name`` is ``"SIGINT"`` (Ctrl-C) or ``"SIGTERM"``.
+
+    A KeyboardInterrupt, so code that handles Ctrl-C handles SIGTERM the same way.
+    """
+
+    def __init__(self, signal_name="SIGINT"):
+        super().__init__(signal_name)
+        self.signal_name = signal_name
 
 
 def require_positive(name, value):

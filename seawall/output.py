@@ -2,9 +2,9 @@
 
 import os
 
-import numpy as np
 
 from .errors import require_positive
+from .schedule import first_due_after, next_due
 
 
 class VTK:
@@ -36,7 +36,7 @@ class VTK:
                 self._wall_series[wall.name] = PVDSeries(self.directory, f"wall_{wall.name}",
                                                          resume=resume, resume_after=resume_after)
         if resume:
-            self.next_time = (int(np.floor(resume_after / self.every + 1e-9)) + 1) * self.every
+            self.next_time = first_due_after(resume_after, self.every)
 
     def due(self, t):
         return t >= self.next_time - 1e-12
@@ -62,8 +62,7 @@ class VTK:
                 # where each wall particle's state is read by mirror-point (ghost) models
                 data["mirror_point"] = 2.0 * pa["surface"] - pa["x"]
             series.write(sim.time, pa["x"], data)
-        while self.next_time <= sim.time + 1e-12:
-            self.next_time += self.every
+        self.next_time = next_due(self.next_time, self.every, sim.time)
 
     def write_state(self, sim, filename):
         """One-off snapshot of the fluid (used to keep the state of a run that blew up)."""
@@ -91,7 +90,7 @@ class Checkpoint:
     def open(self, sim, resume_after=None):
         os.makedirs(self.directory, exist_ok=True)
         if resume_after is not None:
-            self.next_time = (int(np.floor(resume_after / self.every + 1e-9)) + 1) * self.every
+            self.next_time = first_due_after(resume_after, self.every)
 
     def due(self, t):
         return t >= self.next_time - 1e-12
@@ -99,5 +98,4 @@ class Checkpoint:
     def write(self, sim):
         sim.save_checkpoint(self.path)
         self.last_written = self.path
-        while self.next_time <= sim.time + 1e-12:
-            self.next_time += self.every
+        self.next_time = next_due(self.next_time, self.every, sim.time)

@@ -18,6 +18,7 @@ x0,y0:x1,y1:n`` (repeatable).
 """
 
 import csv
+import math
 import os
 
 import numpy as np
@@ -25,6 +26,11 @@ import numpy as np
 from .boundary.interpolation import NORMALISED, interpolate_points
 from .errors import ParameterError, require_positive
 from .probes import Probe
+from .resources import require_memory
+from .schedule import first_due_after, next_due
+
+#: memory one line point takes while sampled: coordinates, the gathered values and their text row
+BYTES_PER_LINE_POINT = 200
 
 #: quantities that can be sampled: name -> how to get it from the fluid's arrays
 QUANTITIES = ("pressure", "density", "u", "v", "w", "speed")
@@ -75,6 +81,9 @@ def line_points(start, end, n):
     n = int(n)
     if n < 2:
         raise ParameterError(f"a line needs at least 2 points, got {n}")
+    if not (np.all(np.isfinite(start)) and np.all(np.isfinite(end))):
+        raise ParameterError("a line's start and end must be finite")
+    require_memory("a line", n, BYTES_PER_LINE_POINT)
     return start[None, :] + np.linspace(0.0, 1.0, n)[:, None] * (end - start)[None, :]
 
 
@@ -103,6 +112,9 @@ def parse_line(text, dim=None):
         raise ParameterError(f"--line {text!r}: start and end need {dim or '2 or 3'} coordinates each")
     if n < 2:
         raise ParameterError(f"--line {text!r}: needs at least 2 points, got n = {n}")
+    if not all(math.isfinite(c) for c in start + end):
+        raise ParameterError(f"--line {text!r}: coordinates must be finite numbers")
+    require_memory(f"--line {text!r}", n, BYTES_PER_LINE_POINT)
     return start, end, n
 
 
@@ -129,13 +141,35 @@ class LineSampler:
         if self.points.shape[1] != sim.dim:
             raise ParameterError(f"line {self.name!r} has {self.points.shape[1]} coordinates, the run is {sim.dim}D")
         os.makedirs(self.directory, exist_ok=True)
+        header = ["time", "s", *"xyz"[:sim.dim], *self.quantities]
         resume = resume_after is not None and os.path.exists(self.path)
+        if resume:
+            self._drop_rows_after(resume_after, header)
         self._fh = open(self.path, "a" if resume else "w", newline="")  # noqa: SIM115 (kept open for the run)
         self._writer = csv.writer(self._fh)
         if not resume:
-            self._writer.writerow(["time", "s", *"xyz"[:sim.dim], *self.quantities])
+            self._writer.writerow(header)
         else:
-            self.next_time = (int(np.floor(resume_after / self.every + 1e-9)) + 1) * self.every
+            self.next_time = first_due_after(resume_after, self.every)
+
+    def _drop_rows_after(self, resume_after, header):
+        """On a restart keep the rows up to the checkpoint's time; the run writes the later ones again."""
+        from .io.vtk import _atomic_write
+
+        with open(self.path, newline="") as fh:
+            rows = list(csv.reader(fh))
+        if not rows or rows[0] != header:
+            raise ParameterError(f"{self.path}: cannot continue it, its columns {rows[0] if rows else []} "
+                                 f"differ from {header}")
+        kept = []
+        for row in rows[1:]:
+            try:
+                if len(row) == len(header) and float(row[0]) <= resume_after:
+                    kept.append(row)
+            except ValueError:
+                pass   # a row cut off by a crash
+        with _atomic_write(self.path, "w", newline="") as fh:
+            csv.writer(fh).writerows([header, *kept])
 
     def due(self, t):
         return t >= self.next_time - 1e-12
@@ -147,8 +181,7 @@ class LineSampler:
             self._writer.writerow([f"{sim.time:.9g}", f"{s[i]:.9g}", *(f"{c:.9g}" for c in self.points[i]),
                                    *(f"{values[q][i]:.9g}" for q in self.quantities)])
         self._fh.flush()
-        while self.next_time <= sim.time + 1e-12:
-            self.next_time += self.every
+        self.next_time = next_due(self.next_time, self.every, sim.time)
 
     def close(self):
         if self._fh is not None:

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from seawall.errors import ParameterError, require_positive
+from seawall.resources import require_memory
 
 __all__ = [
     "Shape",
@@ -262,6 +263,7 @@ def block(lo, hi, dx) -> Shape:
             raise ParameterError(
                 f"hi - lo must be at least dx in every axis, got {hi[k] - lo[k]!r} "
                 f"along axis {k} with dx={dx!r}")
+    require_memory(f"a block of particles at dx = {dx:g} m", math.prod(counts))
     axes = [l + (np.arange(c) + 0.5) * dx for l, c in zip(lo, counts)]
     grids = np.meshgrid(*axes, indexing="ij")
     return Shape(np.stack([g.ravel() for g in grids], axis=1), dx)
@@ -306,6 +308,7 @@ def ball(center, radius, dx) -> Shape:
     radius = require_positive("radius", radius)
     dx = require_positive("dx", dx)
     m = int(math.ceil(radius / dx))
+    require_memory(f"a ball of particles at dx = {dx:g} m", float(2 * m + 2) ** center.shape[0])
     # half-integer multiples of dx: negating them is exact in floating point,
     # and the inside test is done on the offsets, so symmetry is exact
     offs = (np.arange(-m - 1, m + 1) + 0.5) * dx
@@ -393,8 +396,12 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
                 f"hi - lo must be a whole multiple of dx along axis {k} so that wall and "
                 f"fluid share one lattice, got {ratio!r} cells")
         top = n if open_axis else n + layers
-        idx_axes.append(np.arange(-layers, top))
+        idx_axes.append(range(-layers, top))
         n_int.append(n)
+
+    outer = math.prod(len(r) for r in idx_axes)
+    require_memory(f"a tank wall at dx = {dx:g} m", outer - math.prod(n_int))
+    idx_axes = [np.arange(r.start, r.stop) for r in idx_axes]
 
     # Enumerate the shell without building the (possibly huge) interior:
     # the piece where axis k is the FIRST axis outside the interior has
@@ -454,10 +461,10 @@ def tank_surface(lo, hi, spacing, open_top=True) -> Shape:
     lo, hi = _box_corners(lo, hi)
     spacing = require_positive("spacing", spacing)
     dim = lo.size
-    axes = []
-    for k in range(dim):
-        n = max(1, int(round((hi[k] - lo[k]) / spacing)))
-        axes.append(np.linspace(lo[k], hi[k], n + 1))
+    counts = [max(1, int(round((hi[k] - lo[k]) / spacing))) + 1 for k in range(dim)]
+    # the full grid is built and its faces kept
+    require_memory(f"a wall surface at spacing {spacing:g} m", math.prod(counts))
+    axes = [np.linspace(lo[k], hi[k], counts[k]) for k in range(dim)]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, dim)
     tol = 1e-9 * spacing
     on_face = np.zeros((grid.shape[0], dim, 2), dtype=bool)

@@ -7,7 +7,9 @@ never a crash; a run that blows up stops with the step, time and particle,
 keeping its last good checkpoint and everything already written.
 """
 
+import contextlib
 import math
+import os
 import sys
 import time as _time
 
@@ -18,7 +20,7 @@ from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem
 from .coupling import Coupling
 from .diagnostics import escaped_where
-from .errors import InstabilityError, ParameterError, require_positive
+from .errors import InstabilityError, OutputError, ParameterError, RunInterrupted, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
 from .fluid.system import FluidSystem
@@ -28,6 +30,8 @@ from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
 from .probes import Probe
 from .sampling import LineSampler
+from .rundir import output_error
+from .schedule import TIME_TOLERANCE, next_due
 
 
 @njit(cache=True)
@@ -123,6 +127,8 @@ class Simulation:
             gravity = np.asarray(gravity, dtype=np.float64)
             if gravity.shape != (self.dim,):
                 raise ParameterError(f"gravity must have {self.dim} components, got {gravity.tolist()}")
+            if not np.all(np.isfinite(gravity)):
+                raise ParameterError(f"gravity must be finite, got {gravity.tolist()}")
             g[:self.dim] = gravity
         self.gravity = g[:self.dim].copy()
         self.integrator = integrator if integrator is not None else Symplectic()
@@ -131,7 +137,10 @@ class Simulation:
         if int(reorder_every) < 1:
             raise ParameterError(f"reorder_every must be >= 1, got {reorder_every}")
         self.reorder_every = int(reorder_every)
-        self.density_band = (float(density_band[0]), float(density_band[1]))
+        band = tuple(float(b) for b in density_band)
+        if len(band) != 2 or not 0.0 <= band[0] < band[1]:
+            raise ParameterError(f"density_band must be (lo, hi) with 0 <= lo < hi, got {tuple(density_band)}")
+        self.density_band = band
         if threads is not None:
             import numba
 
@@ -181,6 +190,12 @@ class Simulation:
         self.probe_every = None
         self._next_probe = 0.0
         self.probe_csv = None
+        self._output_dirs = []
+        #: set (to the signal's name) to stop the run at the end of the current step (seawall.interrupts)
+        self.stop_requested = None
+        self.in_step_loop = False
+        self._stats = None
+        self._startup_s = 0.0
         for coupling in self.couplings:
             coupling.prepare(self)
 
@@ -261,6 +276,10 @@ class Simulation:
         """
         for item in items:
             if isinstance(item, Probe):
+                point = getattr(item, "point", None)
+                if point is not None and np.size(point) != self.dim:
+                    raise ParameterError(f"probe {item.name!r}: point {np.asarray(point).tolist()} has "
+                                         f"{np.size(point)} coordinates, the run is {self.dim}D")
                 if any(p.name == item.name for p in self.probes):
                     raise ParameterError(f"two probes are named {item.name!r}")
                 wall_name = getattr(item, "wall", None)
@@ -402,9 +421,10 @@ class Simulation:
         self.probe_times.append(self.time)
         self.probe_values.append(row)
         if self.probe_csv is not None:
-            self.probe_csv.append(self.time, row)
-        while self._next_probe <= self.time + 1e-12:
-            self._next_probe += self.probe_every
+            self._check_output_dirs()
+            with self._writing(self.probe_csv.path):
+                self.probe_csv.append(self.time, row)
+        self._next_probe = next_due(self._next_probe, self.probe_every, self.time)
 
     def run_steps(self, n_steps):
         """Advance exactly ``n_steps`` steps with no probes or output (benchmarks)."""
@@ -426,77 +446,153 @@ class Simulation:
             raise InstabilityError(f"time step became {self.next_dt} at step {self.step}, t = {self.time:.6g} s",
                                    step=self.step, time=self.time)
 
+    def first_time_step(self):
+        """Evaluate the rates of the current state (compiling the loops) and return the next time step [s]."""
+        started = _time.perf_counter()
+        self._initialise()
+        self._startup_s += _time.perf_counter() - started
+        return self.next_dt
+
     def run(self, t_end, *, progress=True, probe_csv=None, max_steps=None):
         """Run until simulated time ``t_end`` [s]; return a :class:`RunResult`.
 
         ``probe_csv``: path of a CSV file receiving every probe sample as it
         is taken (flushed row by row, so an interrupted run keeps its data).
+        An output that cannot be written (disk full, directory removed)
+        stops the run with :class:`~seawall.errors.OutputError`; a stop asked
+        for by a signal (``stop_requested``, see :mod:`seawall.interrupts`)
+        ends the current step, writes the checkpoints and raises
+        :class:`~seawall.errors.RunInterrupted`.
         """
         t_end = require_positive("t_end", t_end)
         if t_end <= self.time:
             raise ParameterError(f"t_end = {t_end:g} s must exceed the current time {self.time:g} s")
+        # the loop's "reached t_end" tolerance; below 1e-12 only for end times that small
+        eps = min(TIME_TOLERANCE, 1e-9 * t_end)
         if self.probe_every is None:
             self.probe_every = t_end / 1000.0
+        wall_start = _time.perf_counter()
+        self._stats = {"wall_start": wall_start, "loop_start": None, "particle_steps": 0,
+                       "steps_at_start": self.step, "startup": self._startup_s}
         resume_after = self.time if self.step > 0 else None
-        for out in self.outputs:
-            out.open(self, resume_after=resume_after)
+        self._output_dirs = sorted({out.directory for out in self.outputs}
+                                   | ({os.path.dirname(os.path.abspath(probe_csv))} if probe_csv else set()))
         if probe_csv is not None and self.probes:
             from .io.csvout import ProbeCSVWriter
 
-            self.probe_csv = ProbeCSVWriter(probe_csv, [p.name for p in self.probes],
-                                            resume=resume_after is not None,
-                                            resume_after=resume_after if resume_after is not None else 0.0)
-        wall_start = _time.perf_counter()
+            # first: an existing probes.csv with other columns refuses the restart before any file is touched
+            with self._writing(probe_csv):
+                os.makedirs(os.path.dirname(os.path.abspath(probe_csv)), exist_ok=True)
+                try:
+                    self.probe_csv = ProbeCSVWriter(probe_csv, [p.name for p in self.probes],
+                                                    resume=resume_after is not None,
+                                                    resume_after=resume_after if resume_after is not None else 0.0)
+                except ValueError as exc:
+                    raise ParameterError(str(exc)) from None
+        try:
+            for out in self.outputs:
+                with self._writing(getattr(out, "path", out.directory)):
+                    out.open(self, resume_after=resume_after)
+        except BaseException:
+            if self.probe_csv is not None:
+                self.probe_csv.close()
+                self.probe_csv = None
+            raise
         self._initialise()
-        startup = _time.perf_counter() - wall_start
+        startup = self._startup_s + _time.perf_counter() - wall_start
+        self._startup_s = 0.0
+        self._stats["startup"] = startup
         if self.step == 0:
             self._sample(force=True)
             for out in self.outputs:
                 if isinstance(out, (VTK, LineSampler)):
-                    out.write(self)
+                    self._write(out)
         n_total_walls = sum(w.n for w in self.walls)
-        particle_steps = 0
         steps_at_start = self.step
         loop_start = _time.perf_counter()
+        self._stats["loop_start"] = loop_start
         bar = _progress_bar(t_end, self.time, progress)
         last_bar = loop_start
+        self.in_step_loop = True
         try:
-            while self.time < t_end - 1e-12:
+            while self.time < t_end - eps:
                 if max_steps is not None and self.step - steps_at_start >= max_steps:
                     break
                 dt = min(self.next_dt, t_end - self.time)
                 n_now = self.fluid.particles.n + n_total_walls
                 self._one_step(dt)
-                particle_steps += n_now
+                self._stats["particle_steps"] += n_now
                 self._sample()
                 for out in self.outputs:
                     if out.due(self.time):
-                        out.write(self)
+                        self._write(out)
+                if self.stop_requested is not None:
+                    self._stop_for_signal()
                 now = _time.perf_counter()
-                if bar is not None and (now - last_bar > bar.mininterval or self.time >= t_end - 1e-12):
-                    rate = particle_steps / max(now - loop_start, 1e-9)
+                if bar is not None and (now - last_bar > bar.mininterval or self.time >= t_end - eps):
+                    rate = self._stats["particle_steps"] / max(now - loop_start, 1e-9)
                     bar.n = round(self.time, 6)
                     bar.set_postfix_str(f"step {self.step}, dt {self.next_dt:.2e} s, {rate / 1e6:.2f} M particle-steps/s")
                     last_bar = now
         finally:
+            self.in_step_loop = False
+            self._stats["loop_end"] = _time.perf_counter()
             if bar is not None:
                 bar.close()
             if self.probe_csv is not None:
                 self.probe_csv.close()
                 self.probe_csv = None
-        loop_time = _time.perf_counter() - loop_start
         self._sample(force=self.probe_times[-1] < self.time if self.probe_times else bool(self.probes))
         for out in self.outputs:
             if isinstance(out, VTK) and (not out._fluid.files or out._fluid.files[-1][0] < self.time):
-                out.write(self)
+                self._write(out)
             if isinstance(out, LineSampler):
-                if out.next_time - out.every < self.time - 1e-12:
-                    out.write(self)
+                if out.next_time - out.every < self.time - TIME_TOLERANCE:
+                    self._write(out)
                 out.close()
-        summary = self.summary(wall_time=_time.perf_counter() - wall_start, loop_time=loop_time,
-                               particle_steps=particle_steps, steps=self.step - steps_at_start,
-                               startup=startup)
-        return self.result(summary)
+        self._check_output_dirs()
+        return self.result(self.summary_so_far())
+
+    def summary_so_far(self):
+        """The summary of the current (or last) run up to now; also after an interruption or a blow-up."""
+        stats = self._stats or {"wall_start": _time.perf_counter(), "loop_start": None, "particle_steps": 0,
+                                "steps_at_start": self.step, "startup": self._startup_s}
+        now = _time.perf_counter()
+        loop_start = stats["loop_start"]
+        loop_time = (stats.get("loop_end", now) - loop_start) if loop_start is not None else 0.0
+        return self.summary(wall_time=now - stats["wall_start"], loop_time=loop_time,
+                            particle_steps=stats["particle_steps"], steps=self.step - stats["steps_at_start"],
+                            startup=stats["startup"] if loop_start is not None else now - stats["wall_start"])
+
+    # ------------------------------------------------------------------ writing
+    @contextlib.contextmanager
+    def _writing(self, path):
+        """Turn an OSError while writing ``path`` into an OutputError naming the file and the free space."""
+        try:
+            yield
+        except OutputError:
+            raise
+        except OSError as exc:
+            raise output_error(exc, path) from None
+
+    def _write(self, out):
+        self._check_output_dirs()
+        with self._writing(getattr(out, "path", None) or out.directory):
+            out.write(self)
+
+    def _check_output_dirs(self):
+        # open files (probes.csv, line_*.csv) accept writes after their directory is deleted, so look
+        for directory in self._output_dirs:
+            if not os.path.isdir(directory):
+                raise OutputError(f"output directory {directory} was removed during the run; stopped at "
+                                  f"t = {self.time:.6g} s", path=directory)
+
+    def _stop_for_signal(self):
+        """Stop asked for by a signal: checkpoint the state reached (consistent, between steps) and raise."""
+        for out in self.outputs:
+            if isinstance(out, Checkpoint):
+                self._write(out)
+        raise RunInterrupted(self.stop_requested)
 
     def summary(self, *, wall_time, loop_time, particle_steps, steps, startup):
         fp = self.fluid.particles
@@ -553,16 +649,29 @@ class Simulation:
                  "wall_model_state": {w.name: w.model.state() for w in self.walls},
                  "coupling_state": {c.name: c.state() for c in self.couplings},
                  "dim": self.dim, "n_fluid_initial_mass": self.fluid.initial_mass,
-                 "metadata": self.metadata}
+                 "metadata": self.metadata, "physics": dict(self.physics._asdict())}
         save_checkpoint(path, arrays, attrs)
 
     def restart(self, path):
         """Load a checkpoint written by :meth:`save_checkpoint` into this (identically built) simulation."""
+        from . import restart_checks as checks
         from .io.checkpoint import load_checkpoint
 
-        arrays, attrs = load_checkpoint(path)
+        try:
+            arrays, attrs = load_checkpoint(path)
+        except (OSError, ValueError) as exc:
+            raise ParameterError(str(exc)) from None
         if attrs.get("dim") != self.dim:
             raise ParameterError(f"checkpoint {path} is {attrs.get('dim')}D, this simulation is {self.dim}D")
+        checks.check_setup(path, attrs, self.metadata, dict(self.physics._asdict()))
+        checks.check_clock(path, attrs)
+        checks.check_arrays(path, "the fluid", arrays.get("fluid"), self.fluid.particles.as_dict())
+        for wall in self.walls:
+            key = f"wall_{wall.name}"
+            if key in arrays and arrays[key].get("x", np.zeros(0)).shape[:1] == (wall.n,):
+                checks.check_arrays(path, f"wall {wall.name!r}", arrays[key], wall.particles.as_dict(),
+                                    require_all=False)
+        checks.check_probes(path, arrays.get("probes") or {}, len(self.probes))
         for wall in self.walls:
             key = f"wall_{wall.name}"
             if key not in arrays or arrays[key]["x"].shape[0] != wall.n:

@@ -104,7 +104,13 @@ class WallSystem:
         self.particles.add("x", x)
         v = np.zeros((n, self.dim))
         if velocity is not None:
-            v[:] = np.asarray(velocity, dtype=np.float64)
+            try:
+                v[:] = np.asarray(velocity, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise ParameterError(f"velocity must be a vector of {v.shape[1]} numbers or an (n, {v.shape[1]}) array, "
+                                     f"got {velocity!r}"[:200]) from None
+            if not np.all(np.isfinite(v)):
+                raise ParameterError("velocity must be finite (no NaN or infinity)")
         self.particles.add("v", v)
         self.particles.add("a", np.zeros((n, self.dim)))
         normals = getattr(shape, "normals", None)

@@ -17,7 +17,7 @@ def _dummy(density, default_slip="free"):
         nu = options.pop("wall_nu", None)
         clip = options.pop("clip_negative", None)
         clip = None if clip is None else _flag(clip)
-        return DummyParticles(density=density, slip=slip, nu=None if nu is None else float(nu),
+        return DummyParticles(density=density, slip=slip, nu=None if nu is None else _number("wall_nu", nu),
                               clip_negative_pressure=clip)
     return factory
 
@@ -31,15 +31,16 @@ def _ghost(make):
 
 
 def _shepard(options):
-    return ImprovedShepard(mu=float(options.pop("shepard_mu", 4.0)), lam=float(options.pop("shepard_lambda", 2.0)))
+    return ImprovedShepard(mu=_number("shepard_mu", options.pop("shepard_mu", 4.0)),
+                           lam=_number("shepard_lambda", options.pop("shepard_lambda", 2.0)))
 
 
 def _monaghan_kajtar(options):
     from .repulsive import MonaghanKajtar
 
     K = options.pop("K", None)
-    return MonaghanKajtar(K=None if K is None else float(K), beta=float(options.pop("beta", 3.0)),
-                          alpha_wall=float(options.pop("alpha_wall", 0.0)))
+    return MonaghanKajtar(K=None if K is None else _number("K", K), beta=_number("beta", options.pop("beta", 3.0)),
+                          alpha_wall=_number("alpha_wall", options.pop("alpha_wall", 0.0)))
 
 
 def _liu2015(default_slip="free"):
@@ -47,7 +48,7 @@ def _liu2015(default_slip="free"):
         from .liu2015 import Liu2015Wall
 
         nu = options.pop("wall_nu", None)
-        return Liu2015Wall(slip=str(options.pop("slip", default_slip)), nu=None if nu is None else float(nu),
+        return Liu2015Wall(slip=str(options.pop("slip", default_slip)), nu=None if nu is None else _number("wall_nu", nu),
                            continuity=str(options.pop("continuity", "normal")))
     return factory
 
@@ -55,7 +56,18 @@ def _liu2015(default_slip="free"):
 def _liu2012(options):
     from .liu2012 import Liu2012Force
 
-    return Liu2012Force(beta=float(options.pop("beta", 2.0)))
+    return Liu2012Force(beta=_number("beta", options.pop("beta", 2.0)))
+
+
+def _number(name, value):
+    """A wall option as a finite float; the error names the option."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"wall option {name} must be a number, got {value!r}") from None
+    if number != number or number in (float("inf"), float("-inf")):
+        raise ParameterError(f"wall option {name} must be finite, got {value!r}")
+    return number
 
 
 def _flag(value):
@@ -81,10 +93,7 @@ def _dynamic(cls):
         if "wall_density" in options:
             kwargs["wall_density"] = str(options.pop("wall_density")).strip()
         if "alpha_wall" in options:
-            try:
-                kwargs["alpha_wall"] = float(options.pop("alpha_wall"))
-            except ValueError:
-                raise ParameterError("alpha_wall must be a number") from None
+            kwargs["alpha_wall"] = _number("alpha_wall", options.pop("alpha_wall"))
         return cls(**kwargs)
     return factory
 

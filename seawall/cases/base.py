@@ -64,11 +64,13 @@ class Case:
             if spec.kind is float and not math.isfinite(value):
                 raise ParameterError(f"parameter {key} must be finite, got {value!r}")
             params[key] = value
+        _check_ranges(self.name, params)
         return params
 
     def build(self, *, boundary="adami", threads=None, **overrides):
         """Build the simulation with wall model ``boundary`` (a name or a WallModel factory)."""
         boundary_options = {k: overrides.pop(k) for k in list(overrides) if k in BOUNDARY_OPTION_KEYS}
+        given_options = dict(sorted(boundary_options.items()))
         adhesion = boundary_options.pop("adhesion_coefficient", None)
         params = self.resolve(overrides)
 
@@ -79,6 +81,8 @@ class Case:
                 raise ParameterError(f"boundary {boundary!r} does not take option {sorted(opts)[0]!r}")
             return model
 
+        if isinstance(boundary, str):
+            wall_model()   # the name and options are checked even by cases without walls
         sim = self.builder(params, wall_model, threads)
         if adhesion is not None:
             try:
@@ -90,8 +94,34 @@ class Case:
             for wall in getattr(sim, "walls", []):
                 wall.adhesion_coefficient = beta
         sim.metadata.update({"case": self.name, "boundary": boundary if isinstance(boundary, str) else "custom",
-                             "parameters": params})
+                             "parameters": params, "boundary_options": given_options})
         return sim
+
+
+#: case parameters that, wherever a case has them, must be > 0 when given (None = the case's default)
+POSITIVE_IF_GIVEN = ("c0",)
+#: ... must be >= 0 (0 switches the term off; a negative value is not "off", it is wrong)
+NON_NEGATIVE = ("alpha", "delta", "nu", "seed")
+#: ... must be >= 1
+AT_LEAST_ONE = ("layers",)
+
+
+def _check_ranges(case_name, params):
+    """Refuse impossible values instead of letting a builder replace or ignore them."""
+    for key in POSITIVE_IF_GIVEN:
+        if params.get(key) is not None and not params[key] > 0:
+            raise ParameterError(f"parameter {key} of case {case_name!r} must be > 0 (leave it out for the "
+                                 f"case's default), got {params[key]!r}")
+    for key in NON_NEGATIVE:
+        if params.get(key) is not None and not params[key] >= 0:
+            raise ParameterError(f"parameter {key} of case {case_name!r} must be >= 0, got {params[key]!r}")
+    for key in AT_LEAST_ONE:
+        if params.get(key) is not None and not params[key] >= 1:
+            raise ParameterError(f"parameter {key} of case {case_name!r} must be at least 1, got {params[key]!r}")
+    lo, hi = params.get("rho_min"), params.get("rho_max")
+    if lo is not None and hi is not None and not 0 < lo < hi:
+        raise ParameterError(f"parameters rho_min and rho_max of case {case_name!r} must satisfy "
+                             f"0 < rho_min < rho_max, got {lo!r} and {hi!r}")
 
 
 #: keys of --set that belong to the wall model rather than the case
@@ -99,6 +129,13 @@ BOUNDARY_OPTION_KEYS = {"K", "beta", "wall_nu", "clip_negative", "order", "recta
                         "shepard_mu", "shepard_lambda", "sfdi_diagonal",
                         "alpha_wall", "wall_density", "adhesion_coefficient",
                         "continuity"}
+
+
+def require_noslip(model, case, hint=""):
+    """Cases whose physics is the no-slip condition (channel flows) refuse free-slip walls."""
+    if getattr(model, "slip", None) == "free":
+        raise ParameterError(f"case {case!r} needs no-slip walls: use --boundary adami-noslip "
+                             f"(or a ghost model with --set slip=noslip){hint}")
 
 
 def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):

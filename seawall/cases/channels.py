@@ -26,7 +26,7 @@ from ..integrators import Symplectic
 from ..kernels import CubicSpline
 from ..openboundary import FluidCount, InFlow, MaxSpeed, OpenBoundary, OutFlow, ZoneInflow
 from ..simulation import Simulation
-from .base import Case, Parameter, wall_layers
+from .base import Case, Parameter, require_noslip, wall_layers
 
 
 def poiseuille_velocity(y, height, u_max):
@@ -68,10 +68,7 @@ def duct_gradient(a, b, u_max, mu):
     return u_max / duct_velocity(np.zeros(1), np.zeros(1), a, b, gradient=1.0, mu=mu)[0]
 
 
-def _require_noslip(model, case):
-    if getattr(model, "slip", None) == "free":
-        raise ParameterError(f"case {case!r} needs no-slip walls: use --boundary adami-noslip "
-                             "(or a ghost model with --set slip=noslip)")
+_require_noslip = require_noslip
 
 
 class CentreVelocity(probes.Probe):

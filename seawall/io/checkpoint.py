@@ -3,17 +3,23 @@
 Arrays are stored exactly (dtype, byte order and shape are kept; large
 arrays use lossless gzip level 1). Attributes that HDF5 cannot hold natively
 (None, lists, dicts) are stored as JSON strings with a ``json:`` prefix and
-decoded transparently on load. The file is written to ``path + ".tmp"`` and
-then renamed over ``path``, so the previous checkpoint survives a crash
-during writing.
+decoded transparently on load.
+
+The HDF5 image is built in memory and then written with plain file I/O to a
+temporary sibling that is renamed over ``path``: the previous checkpoint
+survives a crash during writing, and a full disk is an ordinary OSError
+(the HDF5 library itself, writing to a full disk, crashed the process
+with a segmentation fault when closing the file).
 """
 
-import contextlib
+import io
 import json
 import os
 
 import h5py
 import numpy as np
+
+from .vtk import _atomic_write
 
 __all__ = ["save_checkpoint", "load_checkpoint", "FORMAT", "FORMAT_VERSION"]
 
@@ -106,24 +112,15 @@ def save_checkpoint(path, arrays, attrs=None):
         raise TypeError(f"arrays must be a dict of groups, got {type(arrays).__name__}")
     encoded = {key: _encode_attr(key, value) for key, value in attrs.items()}
 
-    tmp = path + ".tmp"
-    try:
-        with h5py.File(tmp, "w", track_order=True) as f:
-            f.attrs["format"] = FORMAT
-            f.attrs["format_version"] = np.int64(FORMAT_VERSION)
-            for key, value in encoded.items():
-                f.attrs[key] = value
-            _write_group(f, arrays, path)
-        fd = os.open(tmp, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.remove(tmp)
-        raise
+    image = io.BytesIO()
+    with h5py.File(image, "w", track_order=True) as f:
+        f.attrs["format"] = FORMAT
+        f.attrs["format_version"] = np.int64(FORMAT_VERSION)
+        for key, value in encoded.items():
+            f.attrs[key] = value
+        _write_group(f, arrays, path)
+    with _atomic_write(path, "wb") as fh:
+        fh.write(image.getbuffer())
     return path
 
 
@@ -148,8 +145,22 @@ def load_checkpoint(path):
     path = os.fspath(path)
     if not os.path.exists(path):
         raise FileNotFoundError(f"checkpoint file not found: {path}")
-    if not h5py.is_hdf5(path):
+    if os.path.isdir(path):
+        raise ValueError(f"{path} is a directory, not a seawall checkpoint")
+    try:
+        is_hdf5 = h5py.is_hdf5(path)
+    except OSError as exc:
+        raise ValueError(f"{path} cannot be read: {exc.strerror or exc}") from None
+    if not is_hdf5:
         raise ValueError(f"{path} is not a seawall checkpoint (not an HDF5 file)")
+    try:
+        return _load(path)
+    except OSError as exc:
+        # h5py reports damaged and truncated files as OSError
+        raise ValueError(f"{path} cannot be read as a checkpoint (truncated or damaged: {exc})") from None
+
+
+def _load(path):
     with h5py.File(path, "r") as f:
         fmt = _decode_attr(f.attrs.get("format"))
         if fmt != FORMAT:
