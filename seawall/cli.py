@@ -106,7 +106,8 @@ def build_parser():
 
     run = sub.add_parser("run", help="run a case and write probes.csv, summary.json and VTU files")
     run.add_argument("case")
-    run.add_argument("--boundary", default="adami", help="wall model (see 'seawall boundaries'), default adami")
+    run.add_argument("--boundary", help="wall model (see 'seawall boundaries'); default the case's own "
+                     "(adami, or adami-noslip for flows that need no slip)")
     run.add_argument("--dx", type=_positive("--dx"), help="particle spacing [m] (case default otherwise)")
     run.add_argument("--t-end", type=_positive("--t-end"), help="simulated end time [s] (case default otherwise)")
     run.add_argument("--out", help="output directory (default runs/CASE-BOUNDARY)")
@@ -155,7 +156,7 @@ def build_parser():
 
     bench = sub.add_parser("bench", help="time a fixed number of steps; print one JSON line")
     bench.add_argument("case")
-    bench.add_argument("--boundary", default="adami")
+    bench.add_argument("--boundary", help="wall model; default the case's own")
     bench.add_argument("--dx", type=_positive("--dx"))
     bench.add_argument("--steps", type=_positive_int("--steps"), default=100)
     bench.add_argument("--chunks", type=_positive_int("--chunks"), default=5,
@@ -193,6 +194,7 @@ def _build(args):
         params["dx"] = args.dx
     if "dx" in params and "dx" not in case.parameters:
         raise ParameterError(f"case {case.name!r} takes no dx")
+    args.boundary = args.boundary or case.default_boundary
     sim = case.build(boundary=args.boundary, threads=args.threads, **params)
     return case, sim
 

@@ -38,6 +38,8 @@ class Case:
     probe_every: float = 1e-3
     output_every: float = 0.02
     dimension: int = 2
+    #: wall model used when none is named (cases whose physics needs no slip default to a no-slip model)
+    default_boundary: str = "adami"
 
     def resolve(self, overrides):
         params = {}
@@ -67,8 +69,11 @@ class Case:
         _check_ranges(self.name, params)
         return params
 
-    def build(self, *, boundary="adami", threads=None, **overrides):
-        """Build the simulation with wall model ``boundary`` (a name or a WallModel factory)."""
+    def build(self, *, boundary=None, threads=None, **overrides):
+        """Build the simulation with wall model ``boundary`` (a name or a WallModel factory; default
+        the case's ``default_boundary``)."""
+        if boundary is None:
+            boundary = self.default_boundary
         boundary_options = {k: overrides.pop(k) for k in list(overrides) if k in BOUNDARY_OPTION_KEYS}
         given_options = dict(sorted(boundary_options.items()))
         adhesion = boundary_options.pop("adhesion_coefficient", None)

@@ -164,8 +164,9 @@ def build_channel(params, wall_model, threads):
 
 CHANNEL = Case(
     name="channel",
+    default_boundary="adami-noslip",
     description="plane Poiseuille flow through an inflow and an outflow zone (Lastiwka), no-slip plates "
-                "(use --boundary adami-noslip)",
+                "(adami-noslip by default)",
     builder=build_channel,
     parameters={**COMMON,
                 "height": Parameter(0.1, "channel height H [m]"),
@@ -263,8 +264,9 @@ def duct_profile_error(sim, x_range=(0.25, 0.75)):
 
 PIPE_3D = Case(
     name="pipe-3d",
+    default_boundary="adami-noslip",
     description="laminar flow through a square duct between an inflow and an outflow zone (Lastiwka), "
-                "no-slip walls (use --boundary adami-noslip)",
+                "no-slip walls (adami-noslip by default)",
     builder=build_pipe_3d,
     parameters={**{k: v for k, v in COMMON.items() if k != "dx"},
                 "dx": Parameter(None, "particle spacing [m] (default H / 10)"),

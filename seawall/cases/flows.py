@@ -128,16 +128,18 @@ PLATE_FLOW_PARAMETERS = {
 
 POISEUILLE = Case(
     name="poiseuille",
+    default_boundary="adami-noslip",
     description="start-up Poiseuille flow between plates 1 mm apart, periodic in x, body force "
-                "(Morris et al. 1997); use a no-slip wall, e.g. --boundary adami-noslip",
+                "(Morris et al. 1997); no-slip walls, adami-noslip by default",
     builder=build_poiseuille,
     parameters={**PLATE_FLOW_PARAMETERS, "force": Parameter(2e-4, "body force per unit mass along x [m/s^2]")},
     t_end=1.0, probe_every=0.005, output_every=0.05)
 
 COUETTE = Case(
     name="couette",
+    default_boundary="adami-noslip",
     description="start-up Couette flow between plates 1 mm apart, upper plate moving, periodic in x "
-                "(Morris et al. 1997); use a no-slip wall, e.g. --boundary adami-noslip",
+                "(Morris et al. 1997); no-slip walls, adami-noslip by default",
     builder=build_couette,
     parameters={**PLATE_FLOW_PARAMETERS, "wall_speed": Parameter(2.5e-5, "speed U of the upper plate [m/s]")},
     t_end=1.0, probe_every=0.005, output_every=0.05)

@@ -131,8 +131,9 @@ def centrelines(sim, s, s_horizontal=None):
 
 CAVITY = Case(
     name="cavity",
+    default_boundary="adami-noslip",
     description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 (seed 003 sec. 4.2; --set reynolds=100/1000 for "
-                "Ghia; --set fluid=liu2015 for the seed's fluid); needs a no-slip wall, e.g. --boundary adami-noslip",
+                "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default",
     builder=build_cavity,
     parameters={
         "dx": Parameter(None, "particle spacing [m] (default side/50, the seed's 2e-5 m)"),

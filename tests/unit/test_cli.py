@@ -92,3 +92,16 @@ def test_rho0_zero_in_api_is_named():
     from seawall.errors import ParameterError
     with pytest.raises(ParameterError, match="rho0"):
         sw.FluidSystem(sw.shapes.rectangle((0, 0), (0.1, 0.1), 0.01), rho0=0, eos=sw.Tait(c0=1.0))
+
+
+def test_flows_that_need_no_slip_run_with_their_own_default_wall(tmp_path):
+    """`seawall run poiseuille` without --boundary picks the case's no-slip default instead of refusing."""
+    from seawall.cases import case_by_name
+
+    for name in ("poiseuille", "couette", "channel", "pipe-3d", "cavity"):
+        assert case_by_name(name).default_boundary == "adami-noslip"
+    out = tmp_path / "p"
+    proc = subprocess.run([sys.executable, "-m", "seawall", "run", "poiseuille", "--t-end", "1e-4", "--out", str(out)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((out / "summary.json").read_text())["boundary"] == "adami-noslip"
