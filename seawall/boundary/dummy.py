@@ -357,10 +357,15 @@ class DummyParticles(WallModel):
         prm = self._physics(ctx.physics)
         noslip = self.slip == "noslip"
         if self.density == "adami" or noslip:
-            # the Adami pass also yields the no-slip wall velocity for every calculator
+            # the Adami pass also yields the no-slip wall velocity for every calculator; the other
+            # calculators keep their own density, so its pressure and density go to scratch arrays
+            # (otherwise `continuity` + no slip would restart from Adami's density every evaluation)
+            own = self.density == "adami"
+            p_out = pa["p"] if own else np.empty(wall.n)
+            rho_out = pa["rho"] if own else np.empty(wall.n)
             adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
                              cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, noslip,
-                             self.clip_negative_pressure, pa["p"], pa["rho"], pa["v_visc"])
+                             self.clip_negative_pressure, p_out, rho_out, pa["v_visc"])
         if self.density == "summation":
             wall_summation_density(g.layout, pa["x"], pa["m"], wall.cells.start, wall.cells.order, fp["x"],
                                    fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
