@@ -17,7 +17,8 @@ the variants is how the wall particles' pressure and density are found (the
 * ``continuity`` -- drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf (seed 004,
   "ContinuityDensity"; seed 000 eq. 8), p_b = EOS(rho_b). The wall density is
   advanced between evaluations by the rate of the previous one (explicit
-  Euler over the interval between evaluations).
+  Euler over the interval between evaluations). With no slip it keeps this
+  density: the Adami pass then supplies only the wall velocity.
 * ``zeroing`` -- rho_b = rho0, p_b = p(rho0) (seed 004, "PressureZeroing").
 * ``mirroring`` -- rho_b = rho0 and, in the momentum equation, p_b = p_a of the
   interacting fluid particle (seed 004, "PressureMirroring", after Akinci et
