@@ -236,7 +236,8 @@ class Simulation:
             lagged_gradient=1 if getattr(diff, "lagged_gradient", False) else 0,
             tensile=1 if fluid.tensile_correction else 0,
             inv_w_dx=1.0 / w_dx if w_dx > 0 else 0.0, xsph=fluid.xsph,
-            gx=float(g[0]), gy=float(g[1]), gz=float(g[2]))
+            gx=float(g[0]), gy=float(g[1]), gz=float(g[2]),
+            alpha_all_pairs=1 if getattr(av, "all_pairs", False) else 0)
 
     def _make_grid(self, domain, periodic):
         support = self.kernel.support(self.h)

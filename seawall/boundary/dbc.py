@@ -36,7 +36,10 @@ Choices where the seed is silent or ambiguous (see docs/idbc.md):
 
 * The wall density is advanced inside ``update`` by the trapezoidal rule
   over the time since the previous call; its rate does not depend on the
-  wall density itself, so the rule is explicit (second order).
+  wall density itself, so the rule is explicit (second order). The default
+  is the seed's rule (eq. 8 with the gradient of eq. 26); the option
+  ``wall_density="consistent"`` integrates eq. 8 exactly across the
+  rectangle's top-hat edges, which sets still water in motion (docs/idbc.md).
 * A fluid particle exactly on the edge of a rectangle (|s| = dx, to 1e-9 dx)
   counts one half, so that a uniform row always weighs exactly two
   particles and an aligned particle sees no jump.
@@ -343,10 +346,11 @@ class ImprovedDynamicBoundary(WallModel):
         pressure [Pa] (e.g. hydrostatic); the density follows from the full
         Tait EOS. Default: reference density.
     wall_density : {"continuity", "consistent"}, optional
-        How the wall density is advanced: the pointwise continuity equation
-        (eq. 8, default for the circular support) or its exact time
-        integral that keeps the jumps at the rectangle's edges (default for
-        the rectangular support); see :meth:`update` and docs/idbc.md.
+        How the wall density is advanced: the continuity equation of seed 000
+        (eq. 8 with the kernel gradient of eq. 26 for the rectangle; default)
+        or ``consistent``, its exact time integral that keeps the jumps at the
+        rectangle's edges (better for one particle bouncing in a box, but it
+        sets still water in motion); see :meth:`update` and docs/idbc.md.
     """
 
     name = "idbc"
@@ -369,7 +373,7 @@ class ImprovedDynamicBoundary(WallModel):
         self.alpha_wall = require_nonnegative("alpha_wall", alpha_wall)
         self.initial_pressure = initial_pressure
         if wall_density is None:
-            wall_density = "consistent" if self.rectangular else "continuity"
+            wall_density = "continuity"  # seed 000 sec. 3.2: eq. 8 with eq. 26 (docs/idbc.md, choice 3)
         if wall_density not in WALL_DENSITY_MODES:
             raise ParameterError(f"wall_density must be one of {', '.join(WALL_DENSITY_MODES)}; got {wall_density!r}")
         self.wall_density = wall_density
@@ -471,7 +475,7 @@ class ImprovedDynamicBoundary(WallModel):
         parts = [f"order {self.order}", "rectangular" if self.rectangular else "circular"]
         if self.correction:
             parts.append("alpha_DB")
-        if self.wall_density != ("consistent" if self.rectangular else "continuity"):
+        if self.wall_density != "continuity":
             parts.append(f"wall density {self.wall_density}")
         if self.alpha_wall > 0:
             parts.append(f"alpha_wall {self.alpha_wall:g}")

@@ -17,7 +17,8 @@ the variants is how the wall particles' pressure and density are found (the
 * ``continuity`` -- drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf (seed 004,
   "ContinuityDensity"; seed 000 eq. 8), p_b = EOS(rho_b). The wall density is
   advanced between evaluations by the rate of the previous one (explicit
-  Euler over the interval between evaluations).
+  Euler over the interval between evaluations). With no slip it keeps this
+  density: the Adami pass then supplies only the wall velocity.
 * ``zeroing`` -- rho_b = rho0, p_b = p(rho0) (seed 004, "PressureZeroing").
 * ``mirroring`` -- rho_b = rho0 and, in the momentum equation, p_b = p_a of the
   interacting fluid particle (seed 004, "PressureMirroring", after Akinci et
@@ -357,10 +358,15 @@ class DummyParticles(WallModel):
         prm = self._physics(ctx.physics)
         noslip = self.slip == "noslip"
         if self.density == "adami" or noslip:
-            # the Adami pass also yields the no-slip wall velocity for every calculator
+            # the Adami pass also yields the no-slip wall velocity for every calculator; the other
+            # calculators keep their own density, so its pressure and density go to scratch arrays
+            # (otherwise `continuity` + no slip would restart from Adami's density every evaluation)
+            own = self.density == "adami"
+            p_out = pa["p"] if own else np.empty(wall.n)
+            rho_out = pa["rho"] if own else np.empty(wall.n)
             adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
                              cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, noslip,
-                             self.clip_negative_pressure, pa["p"], pa["rho"], pa["v_visc"])
+                             self.clip_negative_pressure, p_out, rho_out, pa["v_visc"])
         if self.density == "summation":
             wall_summation_density(g.layout, pa["x"], pa["m"], wall.cells.start, wall.cells.order, fp["x"],
                                    fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,

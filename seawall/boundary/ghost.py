@@ -40,8 +40,9 @@ seed 001 sec. 2.1) with their mirrored state:
     drho_i/dt += m_G (v_i - v_G) . grad_i W_iG
     dv_i/dt   -= m_G (p_i/rho_i^2 + p_G/rho_G^2 + Pi_iG) grad_i W_iG   (+ laminar term)
 
-with the fluid's artificial viscosity Pi (seed 000 eq. 6) and laminar
-viscosity (seed 003 eq. 9). The density-diffusion term is not applied
+with the fluid's artificial viscosity Pi (seed 000 eq. 6; on every pair, as
+between fluid particles, when the fluid's ``ArtificialViscosity(all_pairs=True)``,
+seed 001 eq. 5) and laminar viscosity (seed 003 eq. 9). The density-diffusion term is not applied
 across the wall (ghost densities include the hydrostatic jump, and the
 renormalised gradient is not available at ghosts).
 """
@@ -119,6 +120,7 @@ def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, orde
     dwq = prm.sigma * inv_h
     eta2 = prm.eta2
     alpha = prm.alpha
+    all_pairs = prm.alpha_all_pairs != 0  # the fluid's own switch (seed 001 eq. 5)
     beta = prm.beta
     nu = prm.nu
     for i in prange(nf):
@@ -149,7 +151,7 @@ def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, orde
                     vr = u0 * d0 + u1 * d1 + u2 * d2
                     dr += mb * vr * f
                     coef = pr_i + pg[b] / (rhob * rhob)
-                    if alpha > 0.0 and vr < 0.0:
+                    if alpha > 0.0 and (vr < 0.0 or all_pairs):
                         mu = h * vr / (r2 + eta2)
                         cb = eos_sound_speed(prm.eos, rhob, prm.rho0, prm.c0, prm.gamma)
                         coef += (-alpha * 0.5 * (ci + cb) * mu + beta * mu * mu) / (0.5 * (rhoi + rhob))

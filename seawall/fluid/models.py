@@ -4,12 +4,20 @@ These objects only hold parameters (validated, with literature defaults);
 they compile down to fields of :class:`seawall.fluid.params.Physics`.
 """
 
-from ..errors import require_nonnegative, require_positive
+from ..errors import ParameterError, require_nonnegative, require_positive
 from .params import DIFFUSION_MOLTENI, DIFFUSION_RENORMALISED
 
 
 class ArtificialViscosity:
-    """Monaghan (1992) artificial viscosity, seed 000 eq. 6.
+    """Monaghan (1992) artificial viscosity, seed 000 eq. 6, or its all-pairs form of seed 001 eq. 5.
+
+    Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2) / rho_ij,  mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2),
+    applied to approaching pairs (v_ij . r_ij < 0) only: Monaghan's switch, seed 000 eq. 6.
+    With ``all_pairs`` it acts on every pair, as the delta-SPH scheme of Marrone
+    et al. (2011) writes it (seed 001 eq. 5: alpha h c0 rho0 sum pi_ij . grad W V_j
+    with pi_ij = v_ji . r_ji / |r_ji|^2 for all neighbours). Only then is it a
+    shear viscosity nu = alpha h c0 / (2 (d + 2)) (alpha h c0 / 8 in 2D; derivation
+    in docs/formulas.md); with the switch it gives about half that shear stress.
 
     Parameters
     ----------
@@ -18,14 +26,26 @@ class ArtificialViscosity:
         0.01, seed 001 uses 0.02 after Marrone et al. 2011).
     beta : float
         Quadratic coefficient, 0 after Monaghan (seed 000).
+    all_pairs : bool
+        Apply the term to every pair (seed 001 eq. 5) instead of approaching
+        pairs only (default False, Monaghan's switch). Needs beta = 0: the
+        quadratic term is a shock term for approaching pairs and would push
+        receding pairs apart.
     """
 
-    def __init__(self, *, alpha=0.02, beta=0.0):
+    def __init__(self, *, alpha=0.02, beta=0.0, all_pairs=False):
         self.alpha = require_nonnegative("alpha", alpha)
         self.beta = require_nonnegative("beta", beta)
+        if not isinstance(all_pairs, (bool, int)) or isinstance(all_pairs, int) and all_pairs not in (0, 1):
+            raise ParameterError(f"all_pairs must be True or False, got {all_pairs!r}")
+        self.all_pairs = bool(all_pairs)
+        if self.all_pairs and self.beta > 0.0:
+            raise ParameterError(f"beta must be 0 with all_pairs=True (the quadratic term is for approaching "
+                                 f"pairs only), got {beta!r}")
 
     def __repr__(self):
-        return f"ArtificialViscosity(alpha={self.alpha}, beta={self.beta})"
+        extra = ", all_pairs=True" if self.all_pairs else ""
+        return f"ArtificialViscosity(alpha={self.alpha}, beta={self.beta}{extra})"
 
 
 class LaminarViscosity:

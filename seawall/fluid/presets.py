@@ -8,7 +8,9 @@
   renormalised density gradient rho^L (eq. 5-6), delta = 0.1;
 * artificial viscosity alpha h c0 rho0 sum pi_ij . grad W V_j, alpha = 0.02,
   the minimum that stabilises the scheme according to Marrone et al.
-  (the core's Monaghan form with alpha = 0.02 and beta = 0: the same term);
+  (the core's Monaghan form with alpha = 0.02, beta = 0 and ``all_pairs=True``:
+  eq. 5 sums over every neighbour, with no switch on approaching pairs, so
+  the term is a shear viscosity nu = alpha h c0 / 8 in 2D, docs/formulas.md);
 * Gaussian kernel cut at delta = 3h and renormalised to unit integral (eq. 7),
   h = 1.3 dx in seed 001 sec. 4.1.
 
@@ -67,7 +69,7 @@ def marrone2011(c0, *, alpha=0.02, delta=0.1, h_factor=1.3):
     h_factor : float
         h / dx, 1.3.
     """
-    return FluidPreset(name="marrone2011", eos=Linear(c0=c0), viscosity=ArtificialViscosity(alpha=alpha),
+    return FluidPreset(name="marrone2011", eos=Linear(c0=c0), viscosity=ArtificialViscosity(alpha=alpha, all_pairs=True),
                        density_diffusion=DeltaSPH(delta=delta) if delta > 0 else None, kernel=Gaussian(),
                        h_factor=h_factor)
 

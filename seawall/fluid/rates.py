@@ -9,6 +9,7 @@ the loops run in parallel with ``prange``. Formulas and their sources:
                                                                    (seed 000, eq. 5)
 * artificial viscosity Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2)/rho_ij, for
   v_ij . r_ij < 0, mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2)         (seed 000, eq. 6)
+  or for every pair when ``prm.alpha_all_pairs``                    (seed 001, eq. 5)
 * laminar viscosity: + sum_j m_j (mu_i + mu_j)/(rho_i rho_j) v_ij (r_ij . grad_i W_ij)/(r_ij^2 + eta^2),
   with dynamic viscosity mu = rho nu                               (seed 003, eq. 9)
 * density diffusion: + delta h c0 sum_j (m_j/rho_j) psi_ij . grad_i W_ij  (seed 003, eq. 12)
@@ -179,6 +180,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
     nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     alpha = prm.alpha
+    all_pairs = prm.alpha_all_pairs != 0
     beta = prm.beta
     nu = prm.nu
     eta2 = prm.eta2
@@ -248,7 +250,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                     if avr * mu_den > mu_num * den:
                         mu_num = avr
                         mu_den = den
-                    if alpha > 0.0 and vr < 0.0:
+                    if alpha > 0.0 and (vr < 0.0 or all_pairs):
                         mu = h * vr / den
                         rho_ab = 0.5 * (rhoi + rhoj)
                         c_ab = 0.5 * (ci + c[j])

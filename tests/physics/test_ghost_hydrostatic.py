@@ -16,11 +16,11 @@ from seawall.cases import build
 T_END = 1.5
 #: maximum |p - rho g (H - y)| / (rho g H) over t in [T_END/2, T_END], per method (measured x ~1.7)
 TOLERANCE = {
-    "ghost-mls1": 0.035,      # measured 0.0203
-    "ghost-mls2": 0.035,      # measured 0.0205
-    "ghost-sfdi": 0.035,      # measured 0.0214
-    "ghost-normalized": 0.07,  # measured 0.0411
-    "ghost-shepard": 0.035,   # measured 0.0195
+    "ghost-mls1": 0.035,      # measured 0.0202 (0.0203 before the all-pairs viscosity)
+    "ghost-mls2": 0.035,      # measured 0.0202 (0.0205)
+    "ghost-sfdi": 0.035,      # measured 0.0210 (0.0214)
+    "ghost-normalized": 0.07,  # measured 0.0414 (0.0411)
+    "ghost-shepard": 0.035,   # measured 0.0195 (0.0195)
 }
 
 
