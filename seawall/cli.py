@@ -279,7 +279,7 @@ def _write_escaped(path, sim):
     coords = ["x", "y", "z"][:sim.dim]
     with open(path, "w") as fh:
         fh.write(",".join(["time", "id", *coords, "side", "reason"]) + "\n")
-        for rec, side in zip(sim.escaped, escape_sides(sim.escaped, sim.grid, sim.hull_box())):
+        for rec, side in zip(sim.escaped, escape_sides(sim.escaped, sim.grid, sim.hull_box() if hasattr(sim, "hull_box") else None)):
             fh.write(",".join([f"{rec[0]:.9g}", str(int(rec[1])), *(f"{c:.9g}" for c in rec[2:2 + sim.dim]), side,
                                record_reason(rec, sim.dim)]) + "\n")
 

@@ -184,10 +184,10 @@ def face_points(center, normal, diameter, spacing):
     plane perpendicular to ``normal``, cut into rings no wider than
     ``spacing``; a ring [r0, r1] gets m >= 4 equally spaced points on the
     radius sqrt((r0^2 + r1^2) / 2), m = ceil(2 pi r / spacing), each weighing
-    the ring's area / m. Both rules are exact for fields linear on the face,
-    and for the second moments (sum w x^2 = D^3 / 12 on the segment,
-    pi D^4 / 64 per axis on the disc), so they integrate quadratic fields
-    exactly; a kernel-interpolated field varies on the scale h >= spacing.
+    the ring's area / m. Both rules are exact for fields linear on the face;
+    the disc's rule also gives the exact second moment (pi D^4 / 64 about a
+    diameter), the segment's misses D^3 / 12 by the factor 1 - 1/m^2 of the
+    midpoint rule. A kernel-interpolated field varies on the scale h > spacing.
     """
     c = np.asarray(center, dtype=np.float64)
     n = np.asarray(normal, dtype=np.float64)

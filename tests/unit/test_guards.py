@@ -202,13 +202,13 @@ def test_summary_counts_escapes_by_reason(tmp_path, capsys):
 
 
 def test_dam_break_tank_height_and_lid():
-    default = build("dam-break", dx=0.03)
-    y = default.walls[0].x[:, 1]
     H = 0.3
-    assert y.max() == pytest.approx(4 * H - 0.015)            # walls to 4 H, open
-    experiment = build("dam-break", dx=0.03, tank_height=2.0)
-    assert experiment.walls[0].x[:, 1].max() == pytest.approx(2 * H - 0.015)
-    closed = build("dam-break", dx=0.03, tank_height=2.0, lid=True)
-    assert closed.walls[0].x[:, 1].max() > 2 * H and closed.walls[0].n > experiment.walls[0].n
+    default = build("dam-break", dx=0.03)                      # the experiment's 2 H, closed by a lid
+    y = default.walls[0].x[:, 1]
+    assert y.max() == pytest.approx(2 * H + 2.5 * 0.03)        # 3 lid layers above 2 H
+    open_tank = build("dam-break", dx=0.03, lid=False)
+    assert open_tank.walls[0].x[:, 1].max() == pytest.approx(2 * H - 0.015)
+    tall = build("dam-break", dx=0.03, tank_height=4.0, lid=False)
+    assert tall.walls[0].x[:, 1].max() == pytest.approx(4 * H - 0.015)
     with pytest.raises(ParameterError, match="tank_height"):
         build("dam-break", dx=0.03, tank_height=0.9)
