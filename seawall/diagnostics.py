@@ -42,43 +42,49 @@ def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncel
     """
     from_dim = xf.shape[1]
     for i in prange(xf.shape[0]):
-        best = radius2
-        b_best = -1
-        p = np.zeros(3)
-        for k in range(from_dim):
-            p[k] = xf[i, k]
-        c = np.zeros(3, dtype=np.int64)
-        for k in range(3):
-            c[k] = min(max(int((p[k] - lo[k]) * inv_cell[k]), 0), ncell[k] - 1)
-        own = c[0] + ncell[0] * (c[1] + ncell[1] * c[2])
-        if reach.size and reach[own] == 0:
+        # scalars, not small arrays: an allocation per particle cost more than the search
+        p0 = xf[i, 0]
+        p1 = xf[i, 1]
+        p2 = xf[i, 2] if from_dim == 3 else 0.0
+        c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+        c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+        c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+        if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
             out[i] = np.inf
             continue
+        best = radius2
+        b_best = -1
         zr = 2 if from_dim == 3 else 0
         for oz in range(-zr, zr + 1):
+            cz = c2 + oz
+            if cz < 0 or cz >= ncell[2]:
+                continue
             for oy in range(-2, 3):
+                cy = c1 + oy
+                if cy < 0 or cy >= ncell[1]:
+                    continue
                 for ox in range(-2, 3):
-                    cx = c[0] + ox
-                    cy = c[1] + oy
-                    cz = c[2] + oz
-                    if cx < 0 or cy < 0 or cz < 0 or cx >= ncell[0] or cy >= ncell[1] or cz >= ncell[2]:
+                    cx = c0 + ox
+                    if cx < 0 or cx >= ncell[0]:
                         continue
                     cell = cx + ncell[0] * (cy + ncell[1] * cz)
                     for kk in range(start[cell], start[cell + 1]):
                         b = order[kk]
-                        r2 = 0.0
-                        for k in range(from_dim):
-                            d = p[k] - xw[b, k]
-                            r2 += d * d
+                        d0 = p0 - xw[b, 0]
+                        d1 = p1 - xw[b, 1]
+                        r2 = d0 * d0 + d1 * d1
+                        if from_dim == 3:
+                            d2 = p2 - xw[b, 2]
+                            r2 += d2 * d2
                         if r2 < best:
                             best = r2
                             b_best = b
         if b_best < 0:
             out[i] = np.inf
         else:
-            s = 0.0
-            for k in range(from_dim):
-                s += (p[k] - sw[b_best, k]) * nw[b_best, k]
+            s = (p0 - sw[b_best, 0]) * nw[b_best, 0] + (p1 - sw[b_best, 1]) * nw[b_best, 1]
+            if from_dim == 3:
+                s += (p2 - sw[b_best, 2]) * nw[b_best, 2]
             out[i] = s
 
 
