@@ -124,6 +124,10 @@ def build_parser():
     run.add_argument("--line", action="append", metavar="x0,y0:x1,y1:n",
                      help="sample pressure and velocity at n points on a line every --output-every seconds "
                           "into line_<k>.csv (repeatable; x0,y0,z0:x1,y1,z1:n in 3D)")
+    run.add_argument("--sensor", action="append", metavar="x,y[,z][:diameter]",
+                     help="pressure sensor: the wall pressure averaged over a face of the given diameter [m] "
+                          "(a segment in 2D; default one kernel support) on the wall at the point; column "
+                          "sensor:<k> in probes.csv (repeatable)")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.add_argument("--diagnostics", action="store_true",
@@ -241,6 +245,12 @@ def cmd_run(args):
     lines = [parse_line(text, sim.dim) for text in args.line or []]
     # probes and the sampling interval first: a checkpoint carries the probe list and schedule
     sim.add(every=args.probe_every or case.probe_every)
+    for k, text in enumerate(args.sensor or [], start=1):
+        from .probes import PressureSensor
+        from .sampling import parse_sensor
+
+        point, diameter = parse_sensor(text, sim.dim)
+        sim.add(PressureSensor(f"sensor:{k}", point, diameter))
     if args.diagnostics:
         from .compare import MinWallDistance
 
@@ -357,17 +367,18 @@ def _diagnostics(sim, result):
 
 
 def _write_escaped(path, sim):
-    """escaped.csv: time, id, position at removal and the face of the domain crossed, one row per particle."""
-    from .diagnostics import escape_sides
+    """escaped.csv: time, id, position at removal, the face crossed and the reason, one row per particle."""
+    from .diagnostics import escape_sides, record_reason
 
     from .io.vtk import _atomic_write
 
     coords = ["x", "y", "z"][:sim.dim]
     with _atomic_write(path, "w") as fh:
-        fh.write(",".join(["time", "id", *coords, "side"]) + "\n")
-        for rec, side in zip(sim.escaped, escape_sides(sim.escaped, sim.grid)):
-            fh.write(",".join([f"{rec[0]:.9g}", str(int(rec[1])), *(f"{c:.9g}" for c in rec[2:2 + sim.dim]), side])
-                     + "\n")
+        fh.write(",".join(["time", "id", *coords, "side", "reason"]) + "\n")
+        sides = escape_sides(sim.escaped, sim.grid, sim.hull_box() if hasattr(sim, "hull_box") else None)
+        for rec, side in zip(sim.escaped, sides):
+            fh.write(",".join([f"{rec[0]:.9g}", str(int(rec[1])), *(f"{c:.9g}" for c in rec[2:2 + sim.dim]), side,
+                               record_reason(rec, sim.dim)]) + "\n")
 
 
 def _jsonable(obj):
@@ -389,6 +400,9 @@ def _print_summary(s):
     print(f"  speed         {s['particle_steps_per_s'] / 1e6:.3f} M particle-steps/s")
     where = (s.get("escaped_where") or {}).get("by_side") or {}
     sides = f" ({', '.join(f'{k}: {v}' for k, v in sorted(where.items()))})" if where else ""
+    reasons = s.get("escaped_by_reason") or {}
+    if s["escaped_particles"] and reasons:
+        sides += " [" + ", ".join(f"{k}: {v}" for k, v in reasons.items()) + "]"
     print(f"  escaped       {s['escaped_particles']} particles{sides};  mass drift {s['mass_drift']:.2e}")
     for name, p in (s.get("probes") or {}).items():
         if p["max"] is None:

@@ -7,7 +7,10 @@ summary.json in ``DIR/<model>/``, and writes ``DIR/compare.csv``,
 
 Metrics, per model (a cell is "n/a" only where the case has nothing to measure):
 
-* ``escaped`` -- fluid particles removed for leaving the domain;
+* ``escaped`` -- fluid particles removed by the guards (``seawall.health``), and
+  per reason ``escaped_domain`` (left the domain or the walls' hull),
+  ``escaped_wall`` (crossed into a wall), ``escaped_unstable`` (density or
+  non-finite guard);
 * ``min_wall_distance_dx`` -- smallest signed distance of any fluid particle to
   the wall surface over the run, in particle spacings (the wall particle
   nearest to the fluid particle gives the surface point s and normal n, and
@@ -33,57 +36,16 @@ from concurrent.futures import ProcessPoolExecutor
 import multiprocessing
 
 import numpy as np
-from numba import njit, prange
 
-from .diagnostics import pressure_noise
+from .diagnostics import REASONS, pressure_noise, signed_wall_distance
 from .errors import ParameterError
 from .probes import Probe, WallPressure
 from .rundir import write_json
 
 ENERGY_CONSERVING_CASES = {"particle-in-box"}
 COLUMNS = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
-           "f_sym", "energy_drift", "particle_steps_per_s", "wall_time_s", "relative_time", "steps"]
-
-
-@njit(cache=True, parallel=True)
-def _signed_wall_distance(xf, xw, nw, sw, start, order, lo, inv_cell, ncell, period, radius2, out):
-    """Per fluid particle: (x - s_b) . n_b for its nearest wall particle b within the radius, else +inf."""
-    from_dim = xf.shape[1]
-    for i in prange(xf.shape[0]):
-        best = radius2
-        b_best = -1
-        p = np.zeros(3)
-        for k in range(from_dim):
-            p[k] = xf[i, k]
-        c = np.zeros(3, dtype=np.int64)
-        for k in range(3):
-            c[k] = min(max(int((p[k] - lo[k]) * inv_cell[k]), 0), ncell[k] - 1)
-        zr = 2 if from_dim == 3 else 0
-        for oz in range(-zr, zr + 1):
-            for oy in range(-2, 3):
-                for ox in range(-2, 3):
-                    cx = c[0] + ox
-                    cy = c[1] + oy
-                    cz = c[2] + oz
-                    if cx < 0 or cy < 0 or cz < 0 or cx >= ncell[0] or cy >= ncell[1] or cz >= ncell[2]:
-                        continue
-                    cell = cx + ncell[0] * (cy + ncell[1] * cz)
-                    for kk in range(start[cell], start[cell + 1]):
-                        b = order[kk]
-                        r2 = 0.0
-                        for k in range(from_dim):
-                            d = p[k] - xw[b, k]
-                            r2 += d * d
-                        if r2 < best:
-                            best = r2
-                            b_best = b
-        if b_best < 0:
-            out[i] = np.inf
-        else:
-            s = 0.0
-            for k in range(from_dim):
-                s += (p[k] - sw[b_best, k]) * nw[b_best, k]
-            out[i] = s
+           "f_sym", "energy_drift", "particle_steps_per_s", "wall_time_s", "relative_time", "steps",
+           "escaped_domain", "escaped_wall", "escaped_unstable"]
 
 
 class MinWallDistance(Probe):
@@ -101,8 +63,9 @@ class MinWallDistance(Probe):
             if "normal" not in pa or "surface" not in pa or fp.n == 0:
                 continue
             out = np.empty(fp.n)
-            _signed_wall_distance(fp["x"], pa["x"], pa["normal"], pa["surface"], wall.cells.start,
-                                  wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, sim.physics.support2, out)
+            signed_wall_distance(fp["x"], pa["x"], pa["normal"], pa["surface"], wall.cells.start,
+                                 wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell,
+                                 sim.physics.support2, out)
             best = min(best, float(out.min()))
         return best / sim.fluid.spacing if math.isfinite(best) else float("nan")
 
@@ -144,6 +107,9 @@ def run_one(case_name, boundary, dx, t_end, params, out_dir, threads):
 def metrics(case_name, sim, times, probes, summary):
     """The comparison metrics of one run (see module docstring)."""
     m = {"escaped": summary.get("escaped_particles"), "status": summary.get("status")}
+    by_reason = summary.get("escaped_by_reason") or {}
+    for reason in REASONS:
+        m[f"escaped_{reason}"] = by_reason.get(reason)
     dist = probes.get("min_wall_distance_dx")
     m["min_wall_distance_dx"] = float(np.nanmin(dist)) if dist is not None and np.isfinite(dist).any() else None
     wall_probes = [name for name, p in zip(probes, sim.probes) if isinstance(p, WallPressure)]
@@ -226,7 +192,7 @@ def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, job
     fastest = min((r["summary"]["metrics"]["wall_time_s"] or math.inf) for r in results)
     for b, r in zip(boundaries, results):
         m = r["summary"]["metrics"]
-        row = {"boundary": b, **m}
+        row = {"boundary": b, **m, "escaped_by_reason": {r: m.get(f"escaped_{r}") for r in REASONS}}
         row["relative_time"] = (m["wall_time_s"] / fastest) if m["wall_time_s"] and math.isfinite(fastest) else None
         rows.append(row)
     _write_csv(os.path.join(out, "compare.csv"), rows)
@@ -238,6 +204,8 @@ def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, job
 def _fmt(value, kind):
     if value is None:
         return "n/a"
+    if kind == "reasons":
+        return " / ".join("n/a" if value.get(r) is None else str(int(value[r])) for r in REASONS)
     if kind == "pct":
         return f"{100 * value:.2f} %"
     if kind == "int":
@@ -258,10 +226,10 @@ def _write_csv(path, rows):
 
 
 def _write_markdown(path, case_name, rows, dx, t_end):
-    header = ["model", "status", "escaped", "min wall distance [dx]", "wall-pressure error", "pressure noise",
+    header = ["model", "status", "escaped", "of which domain / wall / unstable", "min wall distance [dx]", "wall-pressure error", "pressure noise",
               "f_sym", "energy drift", "particle-steps/s", "relative time"]
-    kinds = [None, None, "int", None, "pct", "pct", None, "pct", "M", None]
-    keys = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
+    kinds = [None, None, "int", "reasons", None, "pct", "pct", None, "pct", "M", None]
+    keys = ["boundary", "status", "escaped", "escaped_by_reason", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
             "f_sym", "energy_drift", "particle_steps_per_s", "relative_time"]
     lines = [f"# {case_name}: wall models compared", "",
              f"dx = {dx if dx is not None else 'case default'}, t_end = {t_end if t_end is not None else 'case default'}; "

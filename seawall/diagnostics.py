@@ -1,21 +1,91 @@
-"""Diagnostics usable in any run: where particles escaped, wall-pressure noise.
+"""Diagnostics usable in any run: where particles escaped, wall-pressure noise, wall distance.
 
-(The third, the smallest fluid-to-wall distance, is the probe
-:class:`seawall.compare.MinWallDistance`; ``seawall run --diagnostics`` adds it.)
-
+* :func:`signed_wall_distance` -- per fluid particle, the signed distance to
+  the wall surface (negative = inside the wall). The probe
+  :class:`seawall.compare.MinWallDistance` (``seawall run --diagnostics``)
+  reports its minimum; the simulation's wall guard removes particles deeper
+  than ``wall_removal_depth`` (``seawall.health``).
 * :func:`escaped_where` -- the removed particles grouped by the face of the
   domain box they crossed (``x-``, ``x+``, ``y-``, ``y+``, ``z-``, ``z+``: the
   axis along which the recorded position lies farthest outside the box), with
   the time of the first and last escape. Records are kept by the simulation as
-  (time, id, position at removal); ``seawall run`` writes them to escaped.csv.
+  (time, id, position at removal, reason); ``seawall run`` writes them to
+  escaped.csv. A particle removed for leaving the walls' hull is given the
+  hull face it crossed; one removed inside both (a wall crossing, a density
+  or non-finite guard) gets ``inside``.
+* :func:`escaped_by_reason` -- the records counted per removal reason
+  (``domain``, ``wall``, ``unstable``; see ``seawall.health``).
 * :func:`pressure_noise` -- the high-frequency part of a pressure series: the
   RMS of p minus its centred running mean over ``window`` seconds (the same
   definition as the ``pressure_noise`` metric of ``seawall compare``).
 """
 
 import numpy as np
+from numba import njit, prange
 
 AXES = "xyz"
+
+#: why a fluid particle was removed (the ``reason`` of escaped records, in this order in summaries)
+REASONS = ("domain", "wall", "unstable")
+
+
+@njit(cache=True, parallel=True)
+def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2, out):
+    """Per fluid particle: (x - s_b) . n_b for its nearest wall particle b within the radius, else +inf.
+
+    s_b is the wall particle's closest surface point and n_b its unit normal
+    into the fluid (``seawall.shapes``), so the value is the distance from
+    the wall surface, negative inside the wall. ``reach`` (uint8 per cell,
+    ``CellList.reach_mask``) marks the cells with a wall particle in their
+    5^d neighbourhood; particles elsewhere get +inf without a search (they
+    would find nothing), which keeps the cost to the fluid near walls.
+    """
+    from_dim = xf.shape[1]
+    for i in prange(xf.shape[0]):
+        # scalars, not small arrays: an allocation per particle cost more than the search
+        p0 = xf[i, 0]
+        p1 = xf[i, 1]
+        p2 = xf[i, 2] if from_dim == 3 else 0.0
+        c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+        c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+        c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+        if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
+            out[i] = np.inf
+            continue
+        best = radius2
+        b_best = -1
+        zr = 2 if from_dim == 3 else 0
+        for oz in range(-zr, zr + 1):
+            cz = c2 + oz
+            if cz < 0 or cz >= ncell[2]:
+                continue
+            for oy in range(-2, 3):
+                cy = c1 + oy
+                if cy < 0 or cy >= ncell[1]:
+                    continue
+                for ox in range(-2, 3):
+                    cx = c0 + ox
+                    if cx < 0 or cx >= ncell[0]:
+                        continue
+                    cell = cx + ncell[0] * (cy + ncell[1] * cz)
+                    for kk in range(start[cell], start[cell + 1]):
+                        b = order[kk]
+                        d0 = p0 - xw[b, 0]
+                        d1 = p1 - xw[b, 1]
+                        r2 = d0 * d0 + d1 * d1
+                        if from_dim == 3:
+                            d2 = p2 - xw[b, 2]
+                            r2 += d2 * d2
+                        if r2 < best:
+                            best = r2
+                            b_best = b
+        if b_best < 0:
+            out[i] = np.inf
+        else:
+            s = (p0 - sw[b_best, 0]) * nw[b_best, 0] + (p1 - sw[b_best, 1]) * nw[b_best, 1]
+            if from_dim == 3:
+                s += (p2 - sw[b_best, 2]) * nw[b_best, 2]
+            out[i] = s
 
 
 def escape_side(position, lo, hi):
@@ -33,25 +103,50 @@ def escape_side(position, lo, hi):
     return side
 
 
-def escaped_where(records, grid):
-    """Summary of escaped-particle records ``(time, id, x, y[, z])``: count per domain face, first/last time."""
+def record_reason(record, dim):
+    """Reason of an escaped record; records without one (older checkpoints) left the domain."""
+    return record[2 + dim] if len(record) > 2 + dim else "domain"
+
+
+def _side(record, dim, lo, hi, hull):
+    side = escape_side(record[2:2 + dim], lo, hi)
+    if side == "inside" and hull is not None and record_reason(record, dim) == "domain":
+        side = escape_side(record[2:2 + dim], hull[0], hull[1])
+    return side
+
+
+def escaped_where(records, grid, hull=None):
+    """Summary of escaped-particle records ``(time, id, x, y[, z], reason)``: count per face, first/last time.
+
+    ``hull``: the (lo, hi) box of the walls' hull (``Simulation.hull_box()``)
+    that gives the face of particles removed inside the domain box.
+    """
     by_side = {}
     times = []
     dim = grid.dim
     lo = grid.lo[:dim]
     hi = grid.hi[:dim]
     for rec in records:
-        side = escape_side(rec[2:2 + dim], lo, hi)
+        side = _side(rec, dim, lo, hi, hull)
         by_side[side] = by_side.get(side, 0) + 1
         times.append(float(rec[0]))
     return {"by_side": by_side, "first_time": min(times) if times else None,
             "last_time": max(times) if times else None}
 
 
-def escape_sides(records, grid):
-    """The face crossed by each record (list of str, same order)."""
+def escape_sides(records, grid, hull=None):
+    """The face crossed by each record (list of str, same order); see :func:`escaped_where`."""
     dim = grid.dim
-    return [escape_side(rec[2:2 + dim], grid.lo[:dim], grid.hi[:dim]) for rec in records]
+    return [_side(rec, dim, grid.lo[:dim], grid.hi[:dim], hull) for rec in records]
+
+
+def escaped_by_reason(records, dim):
+    """Number of records per removal reason, every reason of :data:`REASONS` present (0 if none)."""
+    counts = dict.fromkeys(REASONS, 0)
+    for rec in records:
+        reason = record_reason(rec, dim)
+        counts[reason] = counts.get(reason, 0) + 1
+    return counts
 
 
 def pressure_noise(times, p, window=0.05):

@@ -18,7 +18,9 @@ class ParameterError(SeawallError, ValueError):
 
 
 class InstabilityError(SeawallError, RuntimeError):
-    """The run became unstable (NaN, density out of band).
+    """The run became unstable: the guards removed more than ``unstable_fraction`` of the
+    fluid as damage (non-finite state, density out of band, wall crossing) within
+    ``unstable_window``, or the time step is not finite (``seawall.health``).
 
     Attributes give the step, simulated time and the particle (its id and
     position) where the guard fired, and the last good checkpoint if any.

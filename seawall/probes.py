@@ -9,6 +9,9 @@ means the same thing whatever wall model is used:
   seed 004: p = sum_f (p_f + rho_f (g - a) . (x - x_f)) W / sum_f W). It is
   exact for still water, so the probe has no bias from the kernel's
   truncation at the wall, as a plain Shepard average would.
+* :class:`PressureSensor` -- the same wall pressure averaged over a sensor's
+  face: a disc of given diameter (a segment in 2D) on the wall surface, as a
+  real transducer integrates the pressure over its membrane.
 * :class:`Pressure` -- Shepard average sum_f p_f W / sum_f W at an interior point.
 * :class:`SurgeFront` -- largest coordinate of any fluid particle along an axis.
 * :class:`KineticEnergy`, :class:`TotalMass`.
@@ -114,6 +117,108 @@ class WallPressure(_PointPressure):
     """
 
     hydrostatic = True
+
+
+class PressureSensor(Probe):
+    """Gauge pressure averaged over a sensor's face on a wall [Pa].
+
+    The face is the disc of ``diameter`` (3D; a segment of that length in 2D)
+    in the wall surface around ``point``: the wall's normal and surface come
+    from the wall particle nearest to the point (``seawall.shapes`` normals
+    and surface points), and the face is centred on the point's projection
+    onto that surface. The value is (1/A) int_face p dA of the field that
+    :class:`WallPressure` samples at one point (the Adami et al. 2012
+    extrapolation, seed 004), integrated by :func:`seawall.sampling.face_points`
+    with points no farther apart than dx / 2. For still water (p linear) the
+    sensor reads the point probe's value at its centre; where the pressure
+    varies on the face's scale (an impact) it reads the mean, and noise of
+    wavelength below the diameter is averaged out.
+
+    Parameters
+    ----------
+    name : str
+        Column name.
+    point : sequence of float
+        Centre of the face, on (within dx/2 of) a wall surface [m].
+    diameter : float, optional
+        Face diameter (segment length in 2D) [m]; default one kernel support.
+    """
+
+    def __init__(self, name, point, diameter=None):
+        super().__init__(name)
+        self.point = np.asarray(point, dtype=np.float64)
+        if self.point.ndim != 1 or self.point.size not in (2, 3) or not np.all(np.isfinite(self.point)):
+            raise ParameterError(f"sensor {name!r}: point must have 2 or 3 finite coordinates, got {point!r}")
+        if diameter is not None:
+            try:
+                d = float(diameter)
+            except (TypeError, ValueError):
+                d = float("nan")
+            if not (d > 0 and np.isfinite(d)):
+                raise ParameterError(f"sensor {name!r}: diameter must be a positive number, got {diameter!r}")
+            diameter = d
+        self.diameter = diameter
+        self.normal = None
+        self.center = None
+        self._points = None
+        self._weights = None
+
+    def attach(self, sim):
+        """Place the face on the wall surface nearest to the point (called by ``Simulation.add``)."""
+        from .sampling import face_points
+
+        if self.point.size != sim.dim:
+            raise ParameterError(f"sensor {self.name!r}: point has {self.point.size} coordinates, the run is {sim.dim}D")
+        dx = sim.fluid.spacing
+        best = None
+        for wall in sim.walls:
+            pa = wall.particles
+            if wall.n == 0 or "normal" not in pa or "surface" not in pa:
+                continue
+            r2 = np.sum((pa["x"] - self.point) ** 2, axis=1)
+            b = int(np.argmin(r2))
+            if best is None or r2[b] < best[0]:
+                best = (r2[b], pa["normal"][b], pa["surface"][b])
+        off = None
+        if best is not None:
+            normal = best[1] / np.linalg.norm(best[1])
+            off = float(np.dot(self.point - best[2], normal))
+            # on the surface: within half a spacing of it, next to a wall particle
+            if abs(off) <= 0.5 * dx and best[0] <= sim.kernel.support(sim.h) ** 2:
+                self.normal = normal
+                self.center = self.point - off * normal
+                if self.diameter is None:
+                    self.diameter = sim.kernel.support(sim.h)
+                self._points, self._weights = face_points(self.center, normal, self.diameter, 0.5 * dx)
+                return
+        raise ParameterError(
+            f"sensor {self.name!r}: point {self.point.tolist()} is not on a wall surface"
+            + ("" if off is None else f" (nearest surface {abs(off):.3g} m away along its normal"
+               f"{'' if best[0] <= sim.kernel.support(sim.h) ** 2 else ', nearest wall particle beyond a kernel support'})")
+            + "; put it on a wall")
+
+    def describe(self):
+        return {"point": self.point.tolist(), "center": None if self.center is None else self.center.tolist(),
+                "normal": None if self.normal is None else self.normal.tolist(), "diameter": self.diameter,
+                "quadrature_points": 0 if self._points is None else int(self._points.shape[0])}
+
+    def sample(self, sim):
+        fp = sim.fluid.particles
+        cells = sim.fluid_cells
+        if cells is None or fp.n == 0:
+            return float("nan")
+        if self._points is None:
+            self.attach(sim)
+        g = sim.grid
+        m = self._points.shape[0]
+        pts = np.zeros((m, 3))
+        pts[:, :sim.dim] = self._points
+        out = np.empty(m)
+        weight = np.empty(m)
+        interpolate_pressure(g.layout, pts, np.zeros(3), fp["x"], fp["p"] - sim.physics.p_background, fp["rho"],
+                             cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, sim.physics,
+                             True, out, weight)
+        return float(np.dot(self._weights, out) / np.sum(self._weights))
 
 
 class Pressure(_PointPressure):

@@ -2,9 +2,12 @@
 
 One step is a handful of compiled calls (neighbour sort, equation of state,
 each wall's update, the fluid rates, each wall's interaction); Python only
-sequences them. Particles that leave the domain are removed and counted,
-never a crash; a run that blows up stops with the step, time and particle,
-keeping its last good checkpoint and everything already written.
+sequences them. Particles that leave the domain or the walls' hull, cross
+into a wall or go unstable are removed and recorded (``seawall.health``),
+never a crash; a run that blows up -- more than a small fraction of the
+fluid removed as damage within a short window, or a state no removal
+repairs -- stops with the step, time and particle, keeping its last good
+checkpoint and everything already written.
 """
 
 import contextlib
@@ -14,37 +17,25 @@ import sys
 import time as _time
 
 import numpy as np
-from numba import njit
 
 from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem
 from .coupling import Coupling
-from .diagnostics import escaped_where
+from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, OutputError, ParameterError, RunInterrupted, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
 from .fluid.system import FluidSystem
+from .health import (DAMAGE, KEEP, UNSTABLE, WALL, _DENSITY, classify_particles, derive_hull, parse_guard_settings,
+                     parse_hull, reason_name, wall_depth_codes, walls_top)
 from .integrators import Integrator, Symplectic
 from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
-from .probes import Probe
+from .probes import PressureSensor, Probe
 from .sampling import LineSampler
 from .rundir import output_error
 from .schedule import TIME_TOLERANCE, next_due
-
-
-@njit(cache=True)
-def first_bad_particle(x, v, rho, rho_lo, rho_hi):
-    """Index of the first particle with a non-finite state or density outside [rho_lo, rho_hi], else -1."""
-    for i in range(x.shape[0]):
-        r = rho[i]
-        if not (r >= rho_lo and r <= rho_hi):
-            return i
-        for k in range(x.shape[1]):
-            if not (np.isfinite(x[i, k]) and np.isfinite(v[i, k])):
-                return i
-    return -1
 
 
 class RunResult:
@@ -89,14 +80,29 @@ class Simulation:
     reorder_every : int
         Reorder the fluid particles by cell every this many steps (memory locality).
     density_band : (float, float)
-        A run is unstable when any density leaves [lo, hi] x rho0 (default 0.5, 2).
+        Fluid particles whose density leaves [lo, hi] x rho0 are removed as
+        ``unstable`` (default 0.5, 2).
+    hull : "walls", None or (lo, hi)
+        Region the fluid may occupy besides the domain box; particles outside
+        it are removed as ``domain``. "walls" (default): derived from the
+        walls across gravity (``seawall.health``); None: the domain box only;
+        a box with None entries for open sides.
+    wall_removal_depth : "support", float or None
+        Fluid particles deeper than this behind a wall surface are removed as
+        ``wall``: "support" (default) = one kernel support, a number = that
+        many particle spacings dx, None = never.
+    unstable_fraction, unstable_window : float
+        The run stops as unstable when the particles removed as ``wall`` or
+        ``unstable`` within the last ``unstable_window`` seconds (default
+        0.05) exceed ``unstable_fraction`` (default 0.001) of the fluid.
     threads : int, optional
         Number of threads of the compiled loops (default: all cores).
     """
 
     def __init__(self, systems, *, kernel=None, h, gravity=None, integrator=None, domain=None,
                  periodic=None, reorder_every=20, density_band=(0.5, 2.0), threads=None,
-                 metadata=None):
+                 metadata=None, hull="walls", wall_removal_depth="support", unstable_fraction=1e-3,
+                 unstable_window=0.05):
         fluids = [s for s in systems if isinstance(s, FluidSystem)]
         walls = [s for s in systems if isinstance(s, WallSystem)]
         couplings = [s for s in systems if isinstance(s, Coupling)]
@@ -141,6 +147,9 @@ class Simulation:
         if len(band) != 2 or not 0.0 <= band[0] < band[1]:
             raise ParameterError(f"density_band must be (lo, hi) with 0 <= lo < hi, got {tuple(density_band)}")
         self.density_band = band
+        self.wall_removal_depth, self.unstable_fraction, self.unstable_window = parse_guard_settings(
+            wall_removal_depth, unstable_fraction, unstable_window)
+        self.hull = parse_hull(hull, self.dim)
         if threads is not None:
             import numba
 
@@ -159,6 +168,7 @@ class Simulation:
         self.physics = self._compile_physics(g)
         self.grid = self._make_grid(domain, periodic)
         self._check_overlap()
+        self._check_hull()
         fp = self.fluid.particles
         n = fp.n
         for name, shape in (("dv", (n, self.dim)), ("xsph", (n, self.dim))):
@@ -181,7 +191,7 @@ class Simulation:
         self.next_dt = None
         self.fluid_cells = None
         self._rates_ready = False
-        self.escaped = []           # (time, id, x...) of removed particles
+        self.escaped = []           # (time, id, x..., reason) of removed particles
         self.escaped_mass = 0.0
         self.probes = []
         self.outputs = []
@@ -288,6 +298,8 @@ class Simulation:
                     if wall_name not in [w.name for w in self.walls]:
                         raise ParameterError(f"probe {item.name!r}: no wall named {wall_name!r}")
                     self.wall_forces.setdefault(wall_name, np.zeros(self.dim))
+                if hasattr(item, "attach"):
+                    item.attach(self)   # probes placed on the geometry (PressureSensor) check it here
                 self.probes.append(item)
             elif isinstance(item, (VTK, Checkpoint, LineSampler)):
                 self.outputs.append(item)
@@ -361,28 +373,91 @@ class Simulation:
             add_adhesion(wall, self.fluid, ctx, self.kernel.support(self.h), fp["dv"])
 
     def _maintain(self):
-        """Between steps: wrap periodic axes, remove escaped particles, reorder by cell."""
+        """Before a step: wrap periodic axes, reorder by cell (removals happen after each step)."""
         fp = self.fluid.particles
         x = fp["x"]
         if np.any(self.grid.period > 0):
             self.grid.wrap(x)
-        inside = self.grid.inside(x)
-        if not inside.all():
-            gone = ~inside
-            for k in np.flatnonzero(gone):
-                self.escaped.append((self.time, int(fp["id"][k]), *x[k].tolist()))
-            self.escaped_mass += float(fp["m"][gone].sum())
-            fp.keep(inside)
         if self.step % self.reorder_every == 0 and fp.n:
             fp.permute(self.grid.build(fp["x"]).order)
 
-    def _check_health(self):
+    # ------------------------------------------------------------------ guards (seawall.health)
+    def _check_hull(self):
+        box = self.hull_box()
+        if box is None:
+            return
+        x = self.fluid.particles["x"]
+        outside = np.any((x < box[0]) | (x >= box[1]), axis=1)
+        if outside.any():
+            k = int(np.argmax(outside))
+            raise ParameterError(
+                f"hull: fluid particle {k} at {x[k].tolist()} lies outside the walls' hull "
+                f"(lo {box[0].tolist()}, hi {box[1].tolist()}); give hull=None or a box that holds the fluid")
+
+    def hull_box(self):
+        """(lo, hi) of the region outside which fluid counts as ``domain`` (+-inf = open), or None."""
+        if self.hull is None:
+            return None
+        if not isinstance(self.hull, str):
+            return self.hull
+        moving = any(w.movement is not None for w in self.walls) or bool(self.couplings)
+        if moving or not hasattr(self, "_hull_box"):
+            self._hull_box = derive_hull(self.walls, self.gravity, self.grid.periodic, self.fluid.spacing)
+        return self._hull_box
+
+    def _removal_box(self):
+        """The domain box (open along periodic axes) intersected with the hull."""
+        dim = self.dim
+        lo = np.where(self.grid.period[:dim] > 0, -np.inf, self.grid.lo[:dim])
+        hi = np.where(self.grid.period[:dim] > 0, np.inf, self.grid.hi[:dim])
+        box = self.hull_box()
+        if box is not None:
+            lo = np.maximum(lo, box[0])
+            hi = np.minimum(hi, box[1])
+        return lo, hi
+
+    def _guard_codes(self):
+        """Per fluid particle: KEEP, or why it must go (seawall.health codes)."""
         fp = self.fluid.particles
         rho0 = self.physics.rho0
-        bad = first_bad_particle(fp["x"], fp["v"], fp["rho"], self.density_band[0] * rho0,
-                                 self.density_band[1] * rho0)
-        if bad < 0:
+        codes = np.zeros(fp.n, dtype=np.int8)
+        lo, hi = self._removal_box()
+        classify_particles(fp["x"], fp["v"], fp["rho"], self.density_band[0] * rho0, self.density_band[1] * rho0,
+                           lo, hi, codes)
+        if self.wall_removal_depth is not None and self.walls:
+            depth = (self.kernel.support(self.h) if self.wall_removal_depth == "support"
+                     else self.wall_removal_depth * self.fluid.spacing)
+            wall_depth_codes(self, depth, codes, walls_top(self.walls, self.gravity, self.fluid.spacing))
+        codes[codes == _DENSITY] = UNSTABLE
+        return codes
+
+    def _check_health(self, stop=True):
+        """Remove and record the particles the guards reject; stop when the damage is beyond repair.
+
+        Raises InstabilityError when the particles removed as ``wall`` or
+        ``unstable`` within the last ``unstable_window`` seconds exceed
+        ``unstable_fraction`` of the fluid (with ``stop``).
+        """
+        fp = self.fluid.particles
+        codes = self._guard_codes()
+        bad = np.flatnonzero(codes != KEEP)
+        if bad.size == 0:
             return
+        n_before = fp.n
+        damage = bad[(codes[bad] == WALL) | (codes[bad] == UNSTABLE)]
+        if stop and damage.size:
+            earlier = sum(1 for rec in self.escaped
+                          if rec[0] > self.time - self.unstable_window and record_reason(rec, self.dim) in DAMAGE)
+            recent = earlier + damage.size
+            if recent > self.unstable_fraction * (n_before + earlier):
+                self._stop_unstable(damage[0], codes[damage[0]], recent, n_before + earlier)
+        for k in bad:
+            self.escaped.append((self.time, int(fp["id"][k]), *fp["x"][k].tolist(), reason_name(int(codes[k]))))
+        self.escaped_mass += float(fp["m"][bad].sum())
+        fp.keep(codes == KEEP)
+
+    def _stop_unstable(self, bad, code, recent, n_fluid):
+        fp = self.fluid.particles
         pid = int(fp["id"][bad])
         pos = fp["x"][bad].tolist()
         checkpoint = None
@@ -397,12 +472,17 @@ class Simulation:
         raise InstabilityError(
             f"run became unstable at step {self.step}, t = {self.time:.6g} s: particle id {pid} at "
             f"{[round(c, 6) for c in pos]} has density {fp['rho'][bad]:.6g} kg/m^3 and velocity "
-            f"{fp['v'][bad].tolist()} (allowed density band {self.density_band[0]:g}-{self.density_band[1]:g} "
-            f"x rho0)" + (f"; last good checkpoint: {checkpoint}" if checkpoint else ""),
+            f"{fp['v'][bad].tolist()} ({'inside a wall' if code == WALL else 'non-finite or outside the density band'}"
+            f"; allowed density band {self.density_band[0]:g}-{self.density_band[1]:g} x rho0); "
+            f"{recent} of {n_fluid} fluid particles removed as damage within {self.unstable_window:g} s, more than "
+            f"unstable_fraction = {self.unstable_fraction:g}"
+            + (f"; last good checkpoint: {checkpoint}" if checkpoint else ""),
             step=self.step, time=self.time, particle_id=pid, position=pos, checkpoint=checkpoint)
 
     # ------------------------------------------------------------------ running
     def _initialise(self):
+        # a state given or edited before this run is screened as after a step (a no-op after a restart)
+        self._check_health()
         if not self._rates_ready:
             self._maintain()
             self.evaluate(self.time)
@@ -443,7 +523,6 @@ class Simulation:
         self._check_health()
         self.next_dt = self.integrator.time_step(self.fluid, self.physics)
         if not (self.next_dt > 0) or not math.isfinite(self.next_dt):
-            self._check_health()
             raise InstabilityError(f"time step became {self.next_dt} at step {self.step}, t = {self.time:.6g} s",
                                    step=self.step, time=self.time)
 
@@ -612,13 +691,17 @@ class Simulation:
             "startup_s": float(startup),
             "particle_steps_per_s": float(particle_steps / loop_time) if loop_time > 0 else 0.0,
             "escaped_particles": len(self.escaped),
-            "escaped_where": escaped_where(self.escaped, self.grid),
+            "escaped_by_reason": escaped_by_reason(self.escaped, self.dim),
+            "escaped_where": escaped_where(self.escaped, self.grid, self.hull_box()),
             "mass_drift": float((mass_now + self.escaped_mass - initial - added) / initial),
             "fluid_mass_in_domain_change": float((mass_now - initial) / initial),
             "kernel": self.kernel.name,
             "h": self.h,
             "dx": self.fluid.spacing,
             "walls": {w.name: w.model.describe() for w in self.walls},
+            **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
+               if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
+            "hull": _hull_summary(self.hull_box()),
             **({"couplings": {c.name: {"model": c.describe(), **c.summary()} for c in self.couplings}}
                if self.couplings else {}),
         }
@@ -643,7 +726,9 @@ class Simulation:
         }
         for coupling in self.couplings:
             arrays[f"coupling_{coupling.name}"] = dict(coupling.arrays())
-        arrays["escaped"] = {"records": np.asarray(self.escaped, dtype=np.float64).reshape(len(self.escaped), 2 + self.dim)}
+        # one row per removed particle: time, id, position, reason as its index in REASONS
+        rows = [(*rec[:2 + self.dim], float(REASONS.index(record_reason(rec, self.dim)))) for rec in self.escaped]
+        arrays["escaped"] = {"records": np.asarray(rows, dtype=np.float64).reshape(len(rows), 3 + self.dim)}
         attrs = {"time": self.time, "step": self.step, "next_dt": self.next_dt,
                  "escaped_mass": self.escaped_mass, "next_probe": self._next_probe,
                  "probe_every": self.probe_every, "probe_names": [p.name for p in self.probes],
@@ -704,10 +789,23 @@ class Simulation:
             raise ParameterError(f"checkpoint {path} has probes {names}, this simulation {[p.name for p in self.probes]}")
         self.probe_times = arrays["probes"]["times"].tolist()
         self.probe_values = arrays["probes"]["values"].tolist()
-        self.escaped = [(r[0], int(r[1]), *r[2:].tolist()) for r in arrays["escaped"]["records"]]
+        records = arrays["escaped"]["records"]
+        dim = self.dim
+        if records.shape[1] == 3 + dim:
+            self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), REASONS[int(r[2 + dim])]) for r in records]
+        else:   # checkpoints before the removal guards: every removal left the domain
+            self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), "domain") for r in records]
         self._rates_ready = True
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])
         return self
+
+
+def _hull_summary(box):
+    """The hull box for summary.json: lo and hi lists with None for open sides, or None."""
+    if box is None:
+        return None
+    return {"lo": [c if math.isfinite(c) else None for c in map(float, box[0])],
+            "hi": [c if math.isfinite(c) else None for c in map(float, box[1])]}
 
 
 def _progress_bar(t_end, t_start, enabled):

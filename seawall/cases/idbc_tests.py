@@ -153,7 +153,8 @@ def build_particle_in_box(params, wall_model, threads):
     margin = 4.0 * h + params["layers"] * dx
     sim = Simulation([fluid, wall], kernel=CubicSpline(), h=h, gravity=(0.0, 0.0),
                      integrator=Symplectic(cfl=params["cfl"], rule="monaghan-kos"), threads=threads,
-                     domain=((-margin, -margin), (L + margin, L + margin)))
+                     domain=((-margin, -margin), (L + margin, L + margin)),
+                     hull=None, wall_removal_depth=None)   # the case measures wall penetration itself
     sim.add(ParticleCoordinate("x", 0), ParticleCoordinate("y", 1), _probes.KineticEnergy())
     sim.reference = {"type": "particle-in-box", "start": (x0, y0), "L": L,
                      "period": _box_period(L, x0, y0, params["u"], params["v"])}
@@ -224,7 +225,8 @@ def build_drop_impact(params, wall_model, threads):
                      gravity=(0.0, -GRAVITY if params["gravity"] else 0.0),
                      integrator=Symplectic(cfl=params["cfl"], rule="monaghan-kos"), threads=threads,
                      domain=((-half - margin, -params["layers"] * dx - margin), (half + margin, top)),
-                     density_band=(params["rho_min"], params["rho_max"]))
+                     density_band=(params["rho_min"], params["rho_max"]),
+                     hull=None, wall_removal_depth=None)   # break-through is what the case measures
     sim.add(SymmetryProbe("f_sym", 0.0, 0.0, dx), ThroughWallProbe("through", 0.0, half - 2.0 * h, 0.5 * dx),
             LowestProbe("lowest", half - 2.0 * h),
             _probes.KineticEnergy())

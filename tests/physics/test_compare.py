@@ -22,12 +22,14 @@ def test_compare_hydrostatic_table(tmp_path, capsys):
         for key in ALWAYS:
             assert row[key] != "", (row["boundary"], key)
         assert int(row["escaped"]) == 0
+        assert sum(int(row[f"escaped_{r}"]) for r in ("domain", "wall", "unstable")) == int(row["escaped"])
         assert float(row["min_wall_distance_dx"]) > 0.0        # nothing inside a wall
         assert float(row["wall_pressure_error"]) < 0.2
     assert min(float(r["relative_time"]) for r in rows) == 1.0
     md = (out / "compare.md").read_text()
     for model in MODELS:
         assert f"| {model} |" in md
+    assert "of which domain / wall / unstable" in md and "| 0 / 0 / 0 |" in md
     assert (out / "probe_P0.png").exists()
     assert "wall models compared" in printed
     for model in MODELS:

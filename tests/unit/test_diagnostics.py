@@ -20,7 +20,7 @@ def test_run_writes_escaped_csv_and_diagnostics(tmp_path, capsys):
     assert summary["escaped_where"]["by_side"] == {}
     assert summary["diagnostics"]["min_wall_distance_dx"] > 0
     assert set(summary["diagnostics"]["wall_pressure_noise_pa"]) == {"P0", "P1", "P2"}
-    assert (out / "escaped.csv").read_text().splitlines() == ["time,id,x,y,side"]
+    assert (out / "escaped.csv").read_text().splitlines() == ["time,id,x,y,side,reason"]
 
 
 def test_escape_side_and_pressure_noise():

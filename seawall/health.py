@@ -1,0 +1,202 @@
+"""Removal guards: which fluid particles leave the run, and when a run is lost.
+
+After every step the simulation sorts out the fluid particles that can no
+longer take part in the flow, removes them, records them (time, id,
+position, reason) and goes on:
+
+* ``domain`` -- outside the domain box, or outside the walls' **hull**: the
+  region the walls enclose across gravity (below). A particle that went over
+  the side of a tank is counted as soon as it is outside the tank, not when
+  it has slid down the outside to the edge of the domain.
+* ``wall`` -- deeper than ``wall_removal_depth`` behind a wall surface, the
+  depth measured by :func:`seawall.diagnostics.signed_wall_distance` (the
+  same signed distance as the ``min_wall_distance_dx`` probe).
+* ``unstable`` -- a non-finite position, velocity or density, or a density
+  outside the band [lo, hi] x rho0.
+
+Reasons are tested in the order non-finite, domain, wall, density: a
+particle that went through a wall and expanded there counts as ``wall``.
+The wall guard applies below the walls' top (the highest wall particle +
+dx/2 along gravity's upward direction): a particle above it cannot be in a
+wall, and the nearest wall particle's normal says nothing about it (a jet
+passing over the rim of an open tank). Between the wall depth and the
+walls' outer face (the hull's edge) a particle that goes *through* a wall is
+seen as ``wall``: for the default walls this band is 0.4 dx wide (2.6 to 3 dx
+with 3 layers), and with CFL 0.2 and h = 1.3 dx a particle moves less than
+0.26 dx per step, so it cannot jump over the band; with thinner bands
+(other kernels) such a particle may be counted as ``domain``.
+
+**Wall depth.** The default depth is one kernel support (2.6 dx for the
+cubic spline with h = 1.3 dx): a particle that deep behind the surface has
+no neighbour on the fluid side, the wall models' pressure and repulsion act
+over the support, so nothing returns it to the fluid; in a layered wall
+(ceil(support / dx) layers) it is in the last layer. A fraction of dx
+would remove particles of runs that are healthy by their wall model's
+standard: at rest in the hydrostatic tank pressure zeroing holds particles
+2.06 dx and IDBC 0.61 dx behind the surface, and the MLS ghost wall lets
+the collapse reach 1.38 dx (docs/boundaries.md, measured).
+
+**Hull.** Derived from the walls unless the case gives one: with gravity
+along an axis, the box spanned by the wall particles, grown by dx/2 to the
+walls' outer faces, across gravity (every non-periodic axis but gravity's),
+bounded below along gravity by the lowest wall particle's outer face and
+open above, so a splash rising above an open tank
+and falling back in is kept. No gravity, gravity off the axes, or no walls:
+no hull (domain box only). Walls that move are followed (the hull is taken
+from their current positions at every check).
+
+**When the run is lost.** Removals for ``wall`` and ``unstable`` are damage;
+leaving the domain is not. The run stops with :class:`InstabilityError`
+when the damage removals within the last ``unstable_window`` seconds exceed
+``unstable_fraction`` of the fluid particles, or when the state cannot be
+repaired particle by particle (a non-finite time step after the removals).
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .diagnostics import REASONS, signed_wall_distance
+from .errors import ParameterError, require_positive
+
+KEEP = 0
+DOMAIN = 1
+WALL = 2
+UNSTABLE = 3
+#: density out of band: ``unstable`` unless the particle is also inside a wall
+_DENSITY = 4
+
+#: reasons that count as damage towards ``unstable_fraction``
+DAMAGE = ("wall", "unstable")
+
+
+@njit(cache=True)
+def classify_particles(x, v, rho, rho_lo, rho_hi, box_lo, box_hi, out):
+    """Per particle: 0 keep, 1 outside [box_lo, box_hi), 3 non-finite, 4 density outside [rho_lo, rho_hi].
+
+    Returns the number of particles not kept. Infinite box bounds leave an
+    axis open (periodic axes, the hull's upper side).
+    """
+    n_bad = 0
+    dim = x.shape[1]
+    for i in range(x.shape[0]):
+        code = KEEP
+        r = rho[i]
+        if not np.isfinite(r):
+            code = UNSTABLE
+        for k in range(dim):
+            if not (np.isfinite(x[i, k]) and np.isfinite(v[i, k])):
+                code = UNSTABLE
+        if code == KEEP:
+            for k in range(dim):
+                if x[i, k] < box_lo[k] or x[i, k] >= box_hi[k]:
+                    code = DOMAIN
+            if code == KEEP and not (r >= rho_lo and r <= rho_hi):
+                code = _DENSITY
+        out[i] = code
+        if code != KEEP:
+            n_bad += 1
+    return n_bad
+
+
+def derive_hull(walls, gravity, periodic, dx):
+    """(lo, hi) of the walls' hull across gravity, with +-inf on open sides; None when there is none."""
+    gravity = np.asarray(gravity, dtype=np.float64)
+    dim = gravity.size
+    if not walls or not np.any(gravity != 0.0):
+        return None
+    axis = int(np.argmax(np.abs(gravity)))
+    if np.count_nonzero(gravity) != 1:
+        return None   # gravity off the axes: "across gravity" is not a box
+    pos = [w.x for w in walls if w.n]
+    if not pos:
+        return None
+    lo = np.min([p.min(axis=0) for p in pos], axis=0) - 0.5 * dx
+    hi = np.max([p.max(axis=0) for p in pos], axis=0) + 0.5 * dx
+    for k in range(dim):
+        if periodic[k]:
+            lo[k], hi[k] = -math.inf, math.inf
+    if gravity[axis] < 0:
+        hi[axis] = math.inf
+    else:
+        lo[axis] = -math.inf
+    return lo, hi
+
+
+def parse_hull(hull, dim):
+    """Validate the ``hull`` argument of Simulation: "walls", None or a box (lo, hi) (None entries = open)."""
+    if hull is None or (isinstance(hull, str) and hull == "walls"):
+        return hull
+    if isinstance(hull, str):
+        raise ParameterError(f"hull must be 'walls', None or a box (lo, hi), got {hull!r}")
+    try:
+        lo, hi = hull
+        lo = np.array([-math.inf if c is None else float(c) for c in lo])
+        hi = np.array([math.inf if c is None else float(c) for c in hi])
+    except (TypeError, ValueError):
+        raise ParameterError(f"hull must be 'walls', None or a box (lo, hi) of {dim} coordinates each, "
+                             f"got {hull!r}") from None
+    if lo.shape != (dim,) or hi.shape != (dim,) or not np.all(hi > lo):
+        raise ParameterError(f"hull must be a box (lo, hi) of {dim} coordinates each with hi > lo, got {hull!r}")
+    return lo, hi
+
+
+def parse_guard_settings(wall_removal_depth, unstable_fraction, unstable_window):
+    """Validate the guard parameters of Simulation; return them as floats (depth None = no wall guard)."""
+    if wall_removal_depth is not None and not (isinstance(wall_removal_depth, str)
+                                               and wall_removal_depth == "support"):
+        if isinstance(wall_removal_depth, str):
+            raise ParameterError(f"wall_removal_depth must be 'support', None or a number of dx > 0, "
+                                 f"got {wall_removal_depth!r}")
+        wall_removal_depth = require_positive("wall_removal_depth", wall_removal_depth)
+    try:
+        fraction = float(unstable_fraction)
+    except (TypeError, ValueError):
+        raise ParameterError(f"unstable_fraction must be a number in (0, 1), got {unstable_fraction!r}") from None
+    if not 0.0 < fraction < 1.0:
+        raise ParameterError(f"unstable_fraction must be in (0, 1), got {unstable_fraction!r}")
+    window = require_positive("unstable_window", unstable_window)
+    return wall_removal_depth, fraction, window
+
+
+def walls_top(walls, gravity, dx):
+    """(axis, coordinate) of the walls' top along gravity's upward direction, or None (no or oblique gravity)."""
+    gravity = np.asarray(gravity, dtype=np.float64)
+    if np.count_nonzero(gravity) != 1 or not any(w.n for w in walls):
+        return None
+    axis = int(np.flatnonzero(gravity)[0])
+    up = -np.sign(gravity[axis])
+    top = max(float((up * w.x[:, axis]).max()) for w in walls if w.n) + 0.5 * dx
+    return axis, up, top
+
+
+def wall_depth_codes(sim, depth, codes, top=None):
+    """Set ``codes`` to WALL where a fluid particle lies more than ``depth`` [m] behind a wall surface.
+
+    ``top``: (axis, up, coordinate) from :func:`walls_top`; particles above it are not tested.
+    """
+    fp = sim.fluid.particles
+    g = sim.grid
+    wanted = (codes == KEEP) | (codes == _DENSITY)
+    if top is not None:
+        axis, up, level = top
+        wanted &= up * fp["x"][:, axis] < level
+    candidates = np.flatnonzero(wanted)
+    if candidates.size == 0:
+        return
+    x = np.ascontiguousarray(fp["x"][candidates]) if candidates.size < fp.n else fp["x"]
+    deepest = np.full(candidates.size, np.inf)
+    dist = np.empty(candidates.size)
+    for wall in sim.walls:
+        pa = wall.particles
+        if wall.n == 0 or "normal" not in pa or "surface" not in pa:
+            continue
+        signed_wall_distance(x, pa["x"], pa["normal"], pa["surface"], wall.cells.start, wall.cells.order,
+                             wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, sim.physics.support2, dist)
+        np.minimum(deepest, dist, out=deepest)
+    codes[candidates[deepest < -depth]] = WALL
+
+
+def reason_name(code):
+    return REASONS[code - 1]
