@@ -1,4 +1,10 @@
-"""Shared test settings: locate the reference data shipped in data/."""
+"""Shared test settings: locate the reference data shipped in data/; mark each test with its tier.
+
+Tiers are the folders: ``unit``, ``contract`` (every registered wall model through the same
+checks), ``regression`` (stored short series compared tightly), ``physics`` (short runs against
+measured references). ``-m regression`` etc. selects one; ``slow`` marks the long runs left out
+of the default tier (pyproject.toml), ``-m slow`` runs them.
+"""
 
 import os
 
@@ -6,6 +12,19 @@ import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(REPO, "data")
+TIERS = ("unit", "contract", "regression", "physics")
+
+
+def pytest_configure(config):
+    for tier in TIERS:
+        config.addinivalue_line("markers", f"{tier}: tests under tests/{tier}/")
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        parts = os.path.relpath(str(item.path), os.path.dirname(__file__)).split(os.sep)
+        if parts[0] in TIERS:
+            item.add_marker(parts[0])
 
 
 @pytest.fixture

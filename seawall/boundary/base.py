@@ -40,6 +40,21 @@ class WallModel:
     #: name used on the command line and in reports
     name = "wall-model"
 
+    #: Does the wall push the fluid by one pair force per (fluid, wall) particle pair?
+    #:
+    #: True when the wall's contribution to fluid particle i's acceleration is a sum over wall
+    #: particles b of terms f_ib / m_i, each depending only on the states of i and b (as set by
+    #: ``update``): no normalisation over i's wall neighbourhood, no selection of one wall
+    #: particle among several. Then each wall particle feels the reaction -f_ib, the reactions
+    #: sum to the force the ``WallForce`` probe reports (minus the wall's share of the fluid's
+    #: momentum change), and fluid + wall conserve linear momentum pair by pair (Newton's third
+    #: law; seed 001 eq. 29 computes the wall force this way). Angular momentum is conserved too
+    #: only when f_ib is also central (along r_ib); the normal-only push of Liu et al. (2015) is
+    #: not. ``tests/contract`` checks the property for every model that declares True (the
+    #: wall's push is additive over any split of its particles) and requires every model to
+    #: declare it: ``None`` here means "not declared".
+    pairwise_momentum = None
+
     def prepare(self, wall, fluid, physics):
         """Called once when the simulation is built: allocate and check the wall's arrays."""
 

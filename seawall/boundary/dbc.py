@@ -353,6 +353,10 @@ class ImprovedDynamicBoundary(WallModel):
         sets still water in motion); see :meth:`update` and docs/idbc.md.
     """
 
+    #: pairwise_momentum (see WallModel): wall particles enter the fluid's momentum equation
+    #: as fluid particles do, one symmetric pair term each (seed 000 eq. 5); central.
+    pairwise_momentum = True
+
     name = "idbc"
 
     def __init__(self, *, order=7, rectangular=True, correction=None, alpha_wall=0.0, initial_pressure=None,

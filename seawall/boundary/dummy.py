@@ -278,6 +278,12 @@ class DummyParticles(WallModel):
         neighbour grid is built.
     """
 
+    #: pairwise_momentum (see WallModel): one symmetric pressure term
+    #: m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib (seed 000 eq. 5) and viscous pair term per
+    #: wall particle b, with b's state set in update; central. With pressure mirroring p_b is
+    #: i's own pressure: still one term per pair.
+    pairwise_momentum = True
+
     def __init__(self, *, density="adami", slip="free", nu=None, clip_negative_pressure=None, eos=None,
                  kernel=None, smoothing_length=None):
         from ..eos import EquationOfState

@@ -237,6 +237,11 @@ class GhostParticles(WallModel):
         components (relative to the wall's own velocity).
     """
 
+    #: pairwise_momentum (see WallModel): the ghosts' state is interpolated in update; the
+    #: push is then one symmetric pressure (seed 000 eq. 5 form) and viscous pair term per
+    #: ghost; central. The wall force of seed 001 eq. 29 is the sum of their reactions.
+    pairwise_momentum = True
+
     def __init__(self, interpolation="shepard", *, slip="free"):
         if isinstance(interpolation, str):
             try:

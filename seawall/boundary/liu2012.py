@@ -98,6 +98,10 @@ class Liu2012Force(WallModel):
     (``wall_layout = "surface"``, as for Monaghan-Kajtar).
     """
 
+    #: pairwise_momentum (see WallModel): one central force per boundary particle, a function
+    #: of the distance only (Liu et al. 2012; module docstring).
+    pairwise_momentum = True
+
     name = "liu2012"
     wall_layout = "surface"
 

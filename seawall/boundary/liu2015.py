@@ -217,6 +217,11 @@ class Liu2015Wall(WallModel):
     carry them). The wall density is rho0 (constant) and its mass rho0 dx^d.
     """
 
+    #: pairwise_momentum (see WallModel): one term per dummy particle (seed 003 eq. 22), but
+    #: along the dummy's normal n_b, not r_ib: linear momentum is conserved pair by pair,
+    #: angular momentum is not.
+    pairwise_momentum = True
+
     name = "liu2015"
 
     def __init__(self, *, slip="free", nu=None, continuity="normal", sound_speed_term=True):

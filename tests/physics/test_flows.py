@@ -45,6 +45,7 @@ def test_channel_startup_matches_the_series_within_2_percent(name):
         u = sim.fluid.particles["v"][:, 0]
         exact = (poiseuille_startup(y, sim.time, L=L, F=ref["force"], nu=NU) if name == "poiseuille"
                  else couette_startup(y, sim.time, L=L, U=scale, nu=NU))
+        # measured 0.0037, 0.0054 (poiseuille) and 0.0072, 0.0010 (couette) at tau = 0.02, 0.2
         assert np.max(np.abs(u - exact)) / scale < 0.02, (name, tau)
     assert len(sim.escaped) == 0
 
@@ -54,8 +55,9 @@ def test_free_slip_walls_give_a_plug_not_a_parabola():
     sim = build("poiseuille", boundary="adami", dx=L / 10, free_slip=True)
     sim.run(0.1, progress=False)
     u = sim.fluid.particles["v"][:, 0]
-    assert u.min() > 0.95 * u.max()
-    assert u.mean() == pytest.approx(2e-4 * sim.time, rel=0.02)
+    # a uniform translation to round-off: measured spread 7.2e-8 of u and mean off by 2.6e-8
+    assert u.min() > (1.0 - 1e-6) * u.max()
+    assert u.mean() == pytest.approx(2e-4 * sim.time, rel=1e-6)
 
 
 def test_taylor_green_runs_without_walls_and_decays_at_first_as_exact():
@@ -63,7 +65,7 @@ def test_taylor_green_runs_without_walls_and_decays_at_first_as_exact():
     assert sim.walls == []
     res = sim.run(0.1, progress=False)
     exact = 0.25 * math.exp(2 * (-8 * math.pi ** 2 / 100) * res.times[-1])
-    assert res["kinetic_energy"][-1] == pytest.approx(exact, rel=0.05)
+    assert res["kinetic_energy"][-1] == pytest.approx(exact, rel=0.05)   # measured -1.7 %
     assert res.summary["escaped_particles"] == 0
     assert res["mass"][-1] == pytest.approx(res["mass"][0], rel=1e-12)
 
@@ -72,8 +74,8 @@ def test_elliptical_drop_semi_axes_early():
     sim = build("elliptical-drop", dx=0.1)
     res = sim.run(0.002, progress=False)
     a = elliptical_drop(res.times[-1])[1]
-    assert res["moment_semi_axis_x"][-1] == pytest.approx(a, rel=0.02)
-    assert res["moment_semi_axis_y"][-1] == pytest.approx(1 / a, rel=0.02)
+    assert res["moment_semi_axis_x"][-1] == pytest.approx(a, rel=0.02)        # measured +0.64 %
+    assert res["moment_semi_axis_y"][-1] == pytest.approx(1 / a, rel=1e-3)    # measured -0.022 %
 
 
 def test_validate_one_entry_updates_only_its_rows(tmp_path, capsys):

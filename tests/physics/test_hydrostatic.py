@@ -1,8 +1,9 @@
 """Still water in a tank (seed 001 sec. 4.1) with Adami dummy walls, at CI resolution (dx = 0.02 m).
 
 Reference: p = rho0 g (H - y). Measured with this set-up (cubic spline h = 1.3 dx,
-alpha = 0.02, delta-SPH 0.1, c0 = 24.3 m/s): P0 -0.1 %, P1 -0.3 %, P2 -0.6 %
-from a hydrostatic start; from rest the mean over the last second is within 2 %
+alpha = 0.02, delta-SPH 0.1, c0 = 24.3 m/s): from a hydrostatic start the largest
+deviation over 1.0-1.5 s is 0.17 % (P0), 0.43 % (P1), 0.84 % (P2) of rho0 g (H - y);
+from rest (p = 0) the mean over 1-2 s is off by 0.95 %, 0.74 %, 2.2 % (asserted 3 %),
 but acoustic ringing of +-7 % remains at 2 s (alpha = 0.02 damps it slowly).
 """
 
@@ -23,13 +24,20 @@ def settled():
     return sim, result
 
 
-def test_wall_pressure_within_3_percent_after_settling(settled):
+#: largest |p - rho0 g (H - y)| / (rho0 g (H - y)) over 1.0-1.5 s, about twice the measured
+SETTLED_TOLERANCE = {"P0": 0.004,    # measured 0.0017
+                     "P1": 0.009,    # measured 0.0043
+                     "P2": 0.017}    # measured 0.0084
+
+
+def test_wall_pressure_after_settling(settled):
     sim, result = settled
     window = result.times >= 1.0
     for name, y in PROBE_Y.items():
         exact = RHO0 * G * (DEPTH - y)
         values = result[name][window]
-        assert np.all(np.abs(values - exact) < 0.03 * exact), (name, values.min(), values.max(), exact)
+        limit = SETTLED_TOLERANCE[name] * exact
+        assert np.all(np.abs(values - exact) < limit), (name, values.min(), values.max(), exact)
 
 
 def test_no_particle_leaves_the_tank(settled):

@@ -27,9 +27,12 @@ def test_block_leaves_the_plates_undeformed_with_liu2015():
     assert result.summary["escaped_particles"] == 0
     # the block has left the plates (its top passed their lower end at t = 0.045 s)
     assert sim.fluid.particles["x"][:, 1].max() < 0.0
-    assert result["deformation_between"].max() < 0.1 * dx
-    assert result["deformation"].max() < 0.1 * dx
-    assert np.abs(result["p_min"]).max() < 1.0 and np.abs(result["p_max"]).max() < 1.0
+    # rigid translation to round-off: measured 4.6e-16 m (5e-13 m with an earlier version), i.e. the
+    # wall never acts on the block; any wall action would move particles by a fraction of dx
+    assert result["deformation_between"].max() < 1e-11
+    assert result["deformation"].max() < 1e-11
+    # nor is it compressed: measured pressure 0.0 Pa throughout (rho0 c0^2 is ~1e5 Pa)
+    assert np.abs(result["p_min"]).max() < 1e-6 and np.abs(result["p_max"]).max() < 1e-6
 
 
 REFERENCE = np.loadtxt("data/lid_driven_cavity_stokes_computed/cavity_Re1_centerlines.csv", delimiter=",",

@@ -32,6 +32,9 @@ def solitary():
     return sim, result
 
 
+# slow: one run of a 20 d flume (~7.5 min on a loaded 2-core machine); the wave maker's motion is
+# guarded by tests/unit/test_wave_makers.py and prescribed wall motion by test_moving_wall.py
+@pytest.mark.slow
 def test_solitary_wave_keeps_its_height_over_ten_depths(solitary):
     sim, result = solitary
     h1 = np.nanmax(result[f"eta_{4 * D:g}"])
@@ -42,6 +45,7 @@ def test_solitary_wave_keeps_its_height_over_ten_depths(solitary):
     assert result.summary["escaped_particles"] == 0
 
 
+@pytest.mark.slow
 def test_solitary_wave_travels_at_its_celerity(solitary):
     sim, result = solitary
     t = result.times
