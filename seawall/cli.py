@@ -246,6 +246,9 @@ def cmd_run(args):
     if args.diagnostics:
         from .compare import MinWallDistance
 
+        if not hasattr(sim, "fluid"):
+            raise ParameterError(f"--diagnostics: case {case.name!r} has no fluid to measure")
+
         sim.add(MinWallDistance())
     if args.restart:
         _restart(sim, args.restart)

@@ -67,10 +67,11 @@ def test_restart_refuses_another_dem_setup(tmp_path):
         other.restart(str(tmp_path / "checkpoint.h5"))
 
 
-def test_line_sampler_is_refused_before_the_run_directory_is_made(tmp_path, capsys):
+@pytest.mark.parametrize("flag", [["--line", "0,0:0.1,0.1:3"], ["--diagnostics"]])
+def test_fluid_outputs_are_refused_before_the_run_directory_is_made(tmp_path, capsys, flag):
     out = tmp_path / "run"
-    code = main(["run", "dem-box", *SMALL_ARGS, "--out", str(out), "--no-progress", "--line", "0,0:0.1,0.1:3"])
-    assert code == EXIT_BAD_INPUT and "--line" in one_line(capsys.readouterr().err)
+    code = main(["run", "dem-box", *SMALL_ARGS, "--out", str(out), "--no-progress", *flag])
+    assert code == EXIT_BAD_INPUT and flag[0] in one_line(capsys.readouterr().err)
     assert not out.exists()
 
 
