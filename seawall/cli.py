@@ -213,7 +213,7 @@ def _check_intervals(args, sim):
     given = [(flag, value) for flag, value in _interval_flags(args) if value is not None]
     if not given:
         return
-    dt = sim.first_time_step() if hasattr(sim, "first_time_step") else sim.dt
+    dt = sim.first_time_step()
     for flag, value in given:
         if value < dt:
             raise _bad_input(f"{flag} {value:g} s is below the first time step {dt:.3g} s; give at least that")
@@ -243,6 +243,8 @@ def cmd_run(args):
     rundir.check_out_path(out)
     # everything that can be refused is checked before the run directory is created or cleared
     lines = [parse_line(text, sim.dim) for text in args.line or []]
+    if lines and not sim.accepts(LineSampler):
+        raise ParameterError(f"--line: case {case.name!r} has no fluid to sample")
     # probes and the sampling interval first: a checkpoint carries the probe list and schedule
     sim.add(every=args.probe_every or case.probe_every)
     for k, text in enumerate(args.sensor or [], start=1):
@@ -253,6 +255,9 @@ def cmd_run(args):
         sim.add(PressureSensor(f"sensor:{k}", point, diameter))
     if args.diagnostics:
         from .compare import MinWallDistance
+
+        if not hasattr(sim, "fluid"):
+            raise ParameterError(f"--diagnostics: case {case.name!r} has no fluid to measure")
 
         sim.add(MinWallDistance())
     if args.restart:
@@ -280,7 +285,6 @@ def cmd_run(args):
                 f"particles, dx = {sim.fluid.spacing:g} m")
     print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
     status, error, code = "completed", None, 0
-    started = time.perf_counter()
     result = None
     try:
         result = sim.run(t_end, progress=not args.no_progress, probe_csv=os.path.join(out, "probes.csv"))
@@ -290,7 +294,7 @@ def cmd_run(args):
         status, error, code = "unstable", str(exc), EXIT_UNSTABLE
     except OutputError as exc:
         status, error, code = "io-error", str(exc), EXIT_IO_ERROR
-    except OSError as exc:   # a simulation without the run loop's own output checks (dem-box)
+    except OSError as exc:   # an OSError the run loop did not name (it turns its own into OutputError)
         status, error, code = "io-error", str(rundir.output_error(exc, exc.filename or out)), EXIT_IO_ERROR
     except KeyboardInterrupt as exc:
         name = getattr(exc, "signal_name", "SIGINT")
@@ -298,7 +302,7 @@ def cmd_run(args):
         error = f"interrupted by {name} at t = {sim.time:.6g} s after {sim.step} steps" + (
             f"; continue with --restart {checkpoint.last_written}" if checkpoint.last_written else "")
     if result is None:
-        result = _partial_result(sim, started)
+        result = _partial_result(sim)
     summary = {"case": case.name, "boundary": args.boundary, **result.summary, "status": status}
     if error:
         summary["error"] = error
@@ -324,19 +328,9 @@ def cmd_run(args):
     return code
 
 
-def _partial_result(sim, started):
+def _partial_result(sim):
     """Summary and probe series of a run that stopped early (blow-up, full disk, signal)."""
-    if hasattr(sim, "summary_so_far"):
-        return sim.result(sim.summary_so_far())
-    import numpy as np
-
-    from .simulation import RunResult
-
-    summary = sim.summary(wall_time=time.perf_counter() - started, loop_time=0.0, particle_steps=0,
-                          steps=sim.step, startup=0.0)
-    values = np.asarray(sim.probe_values, dtype=np.float64).reshape(len(sim.probe_times), len(sim.probes))
-    return RunResult(np.asarray(sim.probe_times), {p.name: values[:, k].copy() for k, p in enumerate(sim.probes)},
-                     summary, [])
+    return sim.result(sim.summary_so_far())
 
 
 def _probe_summary(result):
@@ -452,7 +446,9 @@ def cmd_bench(args):
     sim.run_steps(2)  # compiles (or loads the cache) and warms up
     compile_s = time.perf_counter() - t0
     n_wall = sum(w.n for w in sim.walls)
-    n_particles = sim.fluid.n + n_wall
+    # what one step updates: fluid and wall particles (SPH), the elements (DEM: its walls are fixed)
+    n_particles = sim.particles_per_step()
+    fluid = getattr(sim, "fluid", None)
     # timed in chunks: on a shared machine single timings scatter by +-15 %, so the
     # median and best chunk are reported beside the overall rate
     chunks = min(args.chunks, args.steps)
@@ -469,12 +465,14 @@ def cmd_bench(args):
 
     rates.sort()
     line = {"case": case.name, "boundary": args.boundary, "dimension": sim.dim,
-            "n_particles": n_particles, "n_fluid": sim.fluid.n, "n_wall": n_wall,
+            "n_particles": n_particles, "n_fluid": fluid.n if fluid is not None else 0, "n_wall": n_wall,
+            **({"n_dem": sim.dem.n} if hasattr(sim, "dem") else {}),
             "steps": args.steps, "seconds": seconds,
             "particle_steps_per_s": n_particles * args.steps / seconds,
             "median_chunk_particle_steps_per_s": rates[len(rates) // 2],
             "best_chunk_particle_steps_per_s": rates[-1],
-            "compile_seconds": compile_s, "threads": numba.get_num_threads(), "dx": sim.fluid.spacing}
+            "compile_seconds": compile_s, "threads": numba.get_num_threads(),
+            "dx": fluid.spacing if fluid is not None else None}
     print(json.dumps(line))
     return 0
 

@@ -29,7 +29,7 @@ e = 0.9, 0.97 % at e = 0.6, 3.9 % at e = 0.3, 4.8 % at e = 0.1 (at t_c / 100:
 """
 
 import math
-import time as _time
+import os
 
 import numpy as np
 from numba import njit, prange
@@ -39,6 +39,7 @@ from .neighbors import CellGrid, cell_index, layout_tag, neighbour_range, point_
 from .output import VTK, Checkpoint
 from .particles import ParticleArrays
 from .probes import Probe
+from .runner import Runner
 from .schedule import first_due_after, next_due
 
 STEPS_PER_CONTACT = 50
@@ -213,8 +214,8 @@ class DEMWall:
         return f"dem-wall(normal_stiffness={self.normal_stiffness:g})"
 
 
-class DEMSimulation:
-    """DEM elements in DEM walls under gravity; the same run/probe/output interface as Simulation.
+class DEMSimulation(Runner):
+    """DEM elements in DEM walls under gravity; run, probed and checkpointed by the same loop as Simulation.
 
     Parameters
     ----------
@@ -273,15 +274,8 @@ class DEMSimulation:
         self.dt = require_positive("dt", dt) if dt is not None else t_c / STEPS_PER_CONTACT
         self.metadata = dict(metadata or {})
         self.reference = None
-        self.time = 0.0
-        self.step = 0
-        self.probes = []
-        self.outputs = []
-        self.probe_times = []
-        self.probe_values = []
-        self.probe_every = None
-        self._next_probe = 0.0
-        self.escaped = []
+        self._init_run_state()      # time, step, probes, outputs (seawall.runner)
+        self.escaped = []           # elements are never removed: leaving the domain is an error
         self._accelerate()
 
     # -------------------------------------------------------------- physics
@@ -294,7 +288,7 @@ class DEMSimulation:
                               g.inv_cell, g.ncell, g.period, self.dem.normal_stiffness, self.wall_k, self.dem.zeta,
                               self.gravity[0], self.gravity[1], self.gravity[2], pa["a"], pa["overlap"])
 
-    def _one_step(self, dt):
+    def _integrate(self, dt):
         """Velocity Verlet: v' = v + a dt/2, x += v' dt, a = a(x, v'), v = v' + a dt/2.
 
         The damping force is evaluated with the half-step velocity v'. The
@@ -314,113 +308,27 @@ class DEMSimulation:
                 step=self.step + 1, time=self.time + dt, particle_id=int(pa["id"][k]), position=pa["x"][k].tolist())
         self._accelerate()
         pa["v"] += 0.5 * dt * pa["a"]
-        self.time += dt
-        self.step += 1
 
-    # -------------------------------------------------------------- probes, output, run
-    def add(self, *items, every=None):
-        for item in items:
-            if isinstance(item, Probe):
-                self.probes.append(item)
-            elif isinstance(item, (VTK, Checkpoint)):
-                self.outputs.append(item)
-            else:
-                raise ParameterError(f"cannot add {item!r}: expected a probe, VTK or Checkpoint")
-        if every is not None:
-            self.probe_every = require_positive("every", every)
-        return self
+    # -------------------------------------------------------------- runner hooks (seawall.runner)
+    OUTPUT_TYPES = (VTK, Checkpoint)   # no fluid for a LineSampler to sample
+
+    def _initialise(self):
+        # accelerations are those of the current state from construction (or from the checkpoint)
+        if self.next_dt is None:
+            self.next_dt = self.dt
+
+    def _time_step(self):
+        return self.dt
+
+    def particles_per_step(self):
+        return self.dem.n
+
+    def _adopt_output(self, out):
+        # a VTK output of a DEM run writes the elements (dem.pvd) rather than a fluid
+        return DEMVTK.like(out) if type(out) is VTK else out
 
     def headline(self):
         return f"{self.dem.n} DEM elements + {sum(w.n for w in self.walls)} wall particles, dt = {self.dt:.3g} s"
-
-    def _sample(self, force=False):
-        if not self.probes or (not force and self.time < self._next_probe - 1e-12):
-            return
-        row = [p.sample(self) for p in self.probes]
-        self.probe_times.append(self.time)
-        self.probe_values.append(row)
-        if self._csv is not None:
-            self._csv.append(self.time, row)
-        self._next_probe = next_due(self._next_probe, self.probe_every, self.time)
-
-    def _write_outputs(self, force=False):
-        pa = self.dem.particles
-        for out in self.outputs:
-            if not (force or out.due(self.time)):
-                continue
-            if isinstance(out, VTK):
-                self._series[id(out)].write(self.time, pa["x"], {"velocity": pa["v"], "radius": pa["radius"],
-                                                                 "overlap": pa["overlap"], "id": pa["id"]})
-                out.next_time = next_due(out.next_time, out.every, self.time)
-            else:
-                out.write(self)
-
-    def _open_outputs(self, resume_after):
-        """VTK outputs write DIR/dem.pvd (+ the walls once); checkpoints open as usual."""
-        import os
-
-        from .io.vtk import PVDSeries
-
-        self._series = {}
-        for out in self.outputs:
-            if isinstance(out, VTK):
-                os.makedirs(out.directory, exist_ok=True)
-                resume = resume_after is not None
-                self._series[id(out)] = PVDSeries(out.directory, "dem", resume=resume, resume_after=resume_after)
-                if resume:
-                    out.next_time = first_due_after(resume_after, out.every)
-                elif out.walls:
-                    for w in self.walls:
-                        PVDSeries(out.directory, f"wall_{w.name}").write(0.0, w.x, {"radius": w.radius})
-            else:
-                out.open(self, resume_after=resume_after)
-
-    def run(self, t_end, *, progress=True, probe_csv=None, max_steps=None):
-        from .simulation import RunResult, _progress_bar
-
-        t_end = require_positive("t_end", t_end)
-        if self.probe_every is None:
-            self.probe_every = t_end / 1000.0
-        self._csv = None
-        if probe_csv is not None and self.probes:
-            from .io.csvout import ProbeCSVWriter
-
-            resume = self.step > 0
-            self._csv = ProbeCSVWriter(probe_csv, [p.name for p in self.probes], resume=resume,
-                                       resume_after=self.time if resume else 0.0)
-        self._open_outputs(self.time if self.step > 0 else None)
-        started = _time.perf_counter()
-        if self.step == 0:
-            self._sample(force=True)
-            self._write_outputs(force=True)
-        bar = _progress_bar(t_end, self.time, progress)
-        steps0 = self.step
-        loop_start = _time.perf_counter()
-        try:
-            while self.time < t_end - 1e-12:
-                if max_steps is not None and self.step - steps0 >= max_steps:
-                    break
-                self._one_step(min(self.dt, t_end - self.time))
-                self._sample()
-                self._write_outputs()
-                if bar is not None and self.step % 200 == 0:
-                    bar.n = round(self.time, 6)
-                    bar.refresh()
-        finally:
-            if bar is not None:
-                bar.n = round(self.time, 6)
-                bar.close()
-            if self._csv is not None:
-                self._csv.close()
-                self._csv = None
-        loop = _time.perf_counter() - loop_start
-        if not self.probe_times or self.probe_times[-1] < self.time:
-            self._sample(force=True)
-        summary = self.summary(wall_time=_time.perf_counter() - started, loop_time=loop,
-                               particle_steps=(self.step - steps0) * self.dem.n, steps=self.step - steps0, startup=0.0)
-        times = np.asarray(self.probe_times)
-        values = np.asarray(self.probe_values, dtype=np.float64).reshape(len(times), len(self.probes))
-        return RunResult(times, {p.name: values[:, k].copy() for k, p in enumerate(self.probes)}, summary, [])
 
     def summary(self, *, wall_time, loop_time, particle_steps, steps, startup):
         pa = self.dem.particles
@@ -445,32 +353,61 @@ class DEMSimulation:
             "walls": {w.name: w.describe() for w in self.walls},
         }
 
-    # -------------------------------------------------------------- checkpoints
-    def save_checkpoint(self, path):
-        from .io.checkpoint import save_checkpoint
+    # -------------------------------------------------------------- checkpoints (the runner adds clock and probes)
+    def _constants(self):
+        """What fixes the trajectory besides the case parameters; a restart must find the same."""
+        return {"dt": self.dt, "gravity": self.gravity.tolist(), "normal_stiffness": self.dem.normal_stiffness,
+                "restitution": self.dem.restitution, "wall_stiffness": self.wall_k}
 
-        save_checkpoint(path, {"dem": self.dem.particles.as_dict()},
-                        {"time": self.time, "step": self.step, "dim": self.dim, "metadata": self.metadata})
+    def _state_arrays(self):
+        return {"dem": self.dem.particles.as_dict()}
 
-    def restart(self, path):
+    def _state_attrs(self):
+        return {"physics": self._constants()}
+
+    def _check_state(self, path, arrays, attrs):
         from . import restart_checks as checks
-        from .io.checkpoint import load_checkpoint
 
-        try:
-            arrays, attrs = load_checkpoint(path)
-        except (OSError, ValueError) as exc:
-            raise ParameterError(str(exc)) from None
-        if attrs.get("dim") != self.dim or "dem" not in arrays or arrays["dem"]["x"].shape[0] != self.dem.n:
+        if "dem" not in arrays or arrays["dem"]["x"].shape[0] != self.dem.n:
             raise ParameterError(f"checkpoint {path} does not match this DEM simulation")
-        checks.check_setup(path, attrs, self.metadata)
-        checks.check_clock(path, attrs, need_next_dt=False)
+        checks.check_setup(path, attrs, self.metadata, self._constants())
+        checks.check_clock(path, attrs)
         checks.check_arrays(path, "the DEM elements", arrays["dem"], self.dem.particles.as_dict())
+
+    def _load_state(self, path, arrays, attrs):
         for name, a in arrays["dem"].items():
             self.dem.particles[name] = a
-        self.time = float(attrs["time"])
-        self.step = int(attrs["step"])
-        self._next_probe = self.time
-        return self
+
+
+class DEMVTK(VTK):
+    """VTU/PVD snapshots of DEM elements: ``DIR/dem.pvd`` (velocity, radius, overlap, id) and each
+    wall once as ``DIR/wall_<name>.pvd`` (radius)."""
+
+    @classmethod
+    def like(cls, vtk):
+        return cls(vtk.directory, every=vtk.every, walls=vtk.walls)
+
+    def open(self, sim, resume_after=None):
+        from .io.vtk import PVDSeries
+
+        os.makedirs(self.directory, exist_ok=True)
+        resume = resume_after is not None
+        self._elements = PVDSeries(self.directory, "dem", resume=resume, resume_after=resume_after)
+        if resume:
+            self.next_time = first_due_after(resume_after, self.every)
+        elif self.walls:
+            for w in sim.walls:   # fixed: written once
+                PVDSeries(self.directory, f"wall_{w.name}").write(0.0, w.x, {"radius": w.radius})
+
+    def write(self, sim):
+        pa = sim.dem.particles
+        self._elements.write(sim.time, pa["x"], {"velocity": pa["v"], "radius": pa["radius"],
+                                                 "overlap": pa["overlap"], "id": pa["id"]})
+        self.next_time = next_due(self.next_time, self.every, sim.time)
+
+    def last_time(self):
+        files = self._elements.files if getattr(self, "_elements", None) is not None else []
+        return files[-1][0] if files else None
 
 
 # ------------------------------------------------------------------ probes

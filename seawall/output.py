@@ -64,6 +64,11 @@ class VTK:
             series.write(sim.time, pa["x"], data)
         self.next_time = next_due(self.next_time, self.every, sim.time)
 
+    def last_time(self):
+        """Time of the last snapshot written [s], None before the first."""
+        files = self._fluid.files if self._fluid is not None else []
+        return files[-1][0] if files else None
+
     def write_state(self, sim, filename):
         """One-off snapshot of the fluid (used to keep the state of a run that blew up)."""
         from .io.vtk import write_vtu

@@ -10,11 +10,7 @@ repairs -- stops with the step, time and particle, keeping its last good
 checkpoint and everything already written.
 """
 
-import contextlib
 import math
-import os
-import sys
-import time as _time
 
 import numpy as np
 
@@ -22,7 +18,7 @@ from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem
 from .coupling import Coupling
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
-from .errors import InstabilityError, OutputError, ParameterError, RunInterrupted, require_positive
+from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
 from .fluid.system import FluidSystem
@@ -32,30 +28,12 @@ from .integrators import Integrator, Symplectic
 from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
-from .probes import PressureSensor, Probe
-from .sampling import LineSampler
-from .rundir import output_error
-from .schedule import TIME_TOLERANCE, next_due
+from .probes import PressureSensor
+from .runner import RunResult, Runner, _progress_bar  # noqa: F401  (RunResult, _progress_bar: their old home)
 
 
-class RunResult:
-    """What :meth:`Simulation.run` returns: probe series as arrays and a summary dict."""
-
-    def __init__(self, times, probes, summary, escaped):
-        self.times = times
-        self.probes = probes
-        self.summary = summary
-        self.escaped = escaped
-
-    def __getitem__(self, name):
-        return self.probes[name]
-
-    def __repr__(self):
-        return f"RunResult(steps={self.summary.get('steps')}, probes={list(self.probes)})"
-
-
-class Simulation:
-    """A fluid with its walls, ready to run.
+class Simulation(Runner):
+    """A fluid with its walls, ready to run (the run loop is :class:`~seawall.runner.Runner`'s).
 
     Parameters
     ----------
@@ -186,26 +164,11 @@ class Simulation:
             wall.cells = self.grid.build(wall.x)
             wall.model.prepare(wall, self.fluid, self.physics)
 
-        self.time = 0.0
-        self.step = 0
-        self.next_dt = None
+        self._init_run_state()      # time, step, probes, outputs (seawall.runner)
         self.fluid_cells = None
         self._rates_ready = False
         self.escaped = []           # (time, id, x..., reason) of removed particles
         self.escaped_mass = 0.0
-        self.probes = []
-        self.outputs = []
-        self.probe_times = []
-        self.probe_values = []
-        self.probe_every = None
-        self._next_probe = 0.0
-        self.probe_csv = None
-        self._output_dirs = []
-        #: set (to the signal's name) to stop the run at the end of the current step (seawall.interrupts)
-        self.stop_requested = None
-        self.in_step_loop = False
-        self._stats = None
-        self._startup_s = 0.0
         for coupling in self.couplings:
             coupling.prepare(self)
 
@@ -280,34 +243,16 @@ class Simulation:
                     f"fluid overlaps wall {wall.name!r}: fluid particle at {x[k].tolist()} is closer than "
                     f"0.5 dx = {0.5 * dx:g} m to a wall particle; move the fluid block or the wall")
 
-    def add(self, *items, every=None):
-        """Add probes and outputs (:class:`~seawall.output.VTK`, :class:`~seawall.output.Checkpoint`).
-
-        ``every`` sets the probe sampling interval [s] (default t_end / 1000).
-        """
-        for item in items:
-            if isinstance(item, Probe):
-                point = getattr(item, "point", None)
-                if point is not None and np.size(point) != self.dim:
-                    raise ParameterError(f"probe {item.name!r}: point {np.asarray(point).tolist()} has "
-                                         f"{np.size(point)} coordinates, the run is {self.dim}D")
-                if any(p.name == item.name for p in self.probes):
-                    raise ParameterError(f"two probes are named {item.name!r}")
-                wall_name = getattr(item, "wall", None)
-                if wall_name is not None:
-                    if wall_name not in [w.name for w in self.walls]:
-                        raise ParameterError(f"probe {item.name!r}: no wall named {wall_name!r}")
-                    self.wall_forces.setdefault(wall_name, np.zeros(self.dim))
-                if hasattr(item, "attach"):
-                    item.attach(self)   # probes placed on the geometry (PressureSensor) check it here
-                self.probes.append(item)
-            elif isinstance(item, (VTK, Checkpoint, LineSampler)):
-                self.outputs.append(item)
-            else:
-                raise ParameterError(f"cannot add {item!r}: expected a probe, VTK, Checkpoint or LineSampler")
-        if every is not None:
-            self.probe_every = require_positive("every", every)
-        return self
+    def _register_probe(self, probe):
+        """A probe of the force on a wall names an existing wall; its force is then computed. Probes placed
+        on the geometry (PressureSensor) check their place here."""
+        wall_name = getattr(probe, "wall", None)
+        if wall_name is not None:
+            if wall_name not in [w.name for w in self.walls]:
+                raise ParameterError(f"probe {probe.name!r}: no wall named {wall_name!r}")
+            self.wall_forces.setdefault(wall_name, np.zeros(self.dim))
+        if hasattr(probe, "attach"):
+            probe.attach(self)
 
     def wall_moves(self, wall):
         return wall.movement is not None
@@ -489,190 +434,24 @@ class Simulation:
             self._rates_ready = True
             self.next_dt = self.integrator.time_step(self.fluid, self.physics)
 
-    def _sample(self, force=False):
-        if not self.probes:
-            return
-        if not force and self.time < self._next_probe - 1e-12:
-            return
+    def _prepare_probes(self):
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])
         # the equation of state is cheap; it keeps probe pressures consistent with rho
         fp = self.fluid.particles
         equation_of_state(fp["rho"], fp["m"], self.physics, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
-        row = [p.sample(self) for p in self.probes]
-        self.probe_times.append(self.time)
-        self.probe_values.append(row)
-        if self.probe_csv is not None:
-            self._check_output_dirs()
-            with self._writing(self.probe_csv.path):
-                self.probe_csv.append(self.time, row)
-        self._next_probe = next_due(self._next_probe, self.probe_every, self.time)
 
-    def run_steps(self, n_steps):
-        """Advance exactly ``n_steps`` steps with no probes or output (benchmarks)."""
-        self._initialise()
-        for _ in range(int(n_steps)):
-            self._one_step(self.next_dt)
-
-    def _one_step(self, dt):
-        self._maintain()
+    def _integrate(self, dt):
         self.integrator.step(self, dt)
-        self.time += dt
-        self.step += 1
+
+    def _after_step(self, dt):
         for coupling in self.couplings:
             coupling.after_step(self, dt)
-        self._check_health()
-        self.next_dt = self.integrator.time_step(self.fluid, self.physics)
-        if not (self.next_dt > 0) or not math.isfinite(self.next_dt):
-            raise InstabilityError(f"time step became {self.next_dt} at step {self.step}, t = {self.time:.6g} s",
-                                   step=self.step, time=self.time)
 
-    def first_time_step(self):
-        """Evaluate the rates of the current state (compiling the loops) and return the next time step [s]."""
-        started = _time.perf_counter()
-        self._initialise()
-        self._startup_s += _time.perf_counter() - started
-        return self.next_dt
+    def _time_step(self):
+        return self.integrator.time_step(self.fluid, self.physics)
 
-    def run(self, t_end, *, progress=True, probe_csv=None, max_steps=None):
-        """Run until simulated time ``t_end`` [s]; return a :class:`RunResult`.
-
-        ``probe_csv``: path of a CSV file receiving every probe sample as it
-        is taken (flushed row by row, so an interrupted run keeps its data).
-        An output that cannot be written (disk full, directory removed)
-        stops the run with :class:`~seawall.errors.OutputError`; a stop asked
-        for by a signal (``stop_requested``, see :mod:`seawall.interrupts`)
-        ends the current step, writes the checkpoints and raises
-        :class:`~seawall.errors.RunInterrupted`.
-        """
-        t_end = require_positive("t_end", t_end)
-        if t_end <= self.time:
-            raise ParameterError(f"t_end = {t_end:g} s must exceed the current time {self.time:g} s")
-        # the loop's "reached t_end" tolerance; below 1e-12 only for end times that small
-        eps = min(TIME_TOLERANCE, 1e-9 * t_end)
-        if self.probe_every is None:
-            self.probe_every = t_end / 1000.0
-        wall_start = _time.perf_counter()
-        self._stats = {"wall_start": wall_start, "loop_start": None, "particle_steps": 0,
-                       "steps_at_start": self.step, "startup": self._startup_s}
-        resume_after = self.time if self.step > 0 else None
-        self._output_dirs = sorted({out.directory for out in self.outputs}
-                                   | ({os.path.dirname(os.path.abspath(probe_csv))} if probe_csv else set()))
-        if probe_csv is not None and self.probes:
-            from .io.csvout import ProbeCSVWriter
-
-            # first: an existing probes.csv with other columns refuses the restart before any file is touched
-            with self._writing(probe_csv):
-                os.makedirs(os.path.dirname(os.path.abspath(probe_csv)), exist_ok=True)
-                try:
-                    self.probe_csv = ProbeCSVWriter(probe_csv, [p.name for p in self.probes],
-                                                    resume=resume_after is not None,
-                                                    resume_after=resume_after if resume_after is not None else 0.0)
-                except ValueError as exc:
-                    raise ParameterError(str(exc)) from None
-        try:
-            for out in self.outputs:
-                with self._writing(getattr(out, "path", out.directory)):
-                    out.open(self, resume_after=resume_after)
-        except BaseException:
-            if self.probe_csv is not None:
-                self.probe_csv.close()
-                self.probe_csv = None
-            raise
-        self._initialise()
-        startup = self._startup_s + _time.perf_counter() - wall_start
-        self._startup_s = 0.0
-        self._stats["startup"] = startup
-        if self.step == 0:
-            self._sample(force=True)
-            for out in self.outputs:
-                if isinstance(out, (VTK, LineSampler)):
-                    self._write(out)
-        n_total_walls = sum(w.n for w in self.walls)
-        steps_at_start = self.step
-        loop_start = _time.perf_counter()
-        self._stats["loop_start"] = loop_start
-        bar = _progress_bar(t_end, self.time, progress)
-        last_bar = loop_start
-        self.in_step_loop = True
-        try:
-            while self.time < t_end - eps:
-                if max_steps is not None and self.step - steps_at_start >= max_steps:
-                    break
-                dt = min(self.next_dt, t_end - self.time)
-                n_now = self.fluid.particles.n + n_total_walls
-                self._one_step(dt)
-                self._stats["particle_steps"] += n_now
-                self._sample()
-                for out in self.outputs:
-                    if out.due(self.time):
-                        self._write(out)
-                if self.stop_requested is not None:
-                    self._stop_for_signal()
-                now = _time.perf_counter()
-                if bar is not None and (now - last_bar > bar.mininterval or self.time >= t_end - eps):
-                    rate = self._stats["particle_steps"] / max(now - loop_start, 1e-9)
-                    bar.n = round(self.time, 6)
-                    bar.set_postfix_str(f"step {self.step}, dt {self.next_dt:.2e} s, {rate / 1e6:.2f} M particle-steps/s")
-                    last_bar = now
-        finally:
-            self.in_step_loop = False
-            self._stats["loop_end"] = _time.perf_counter()
-            if bar is not None:
-                bar.close()
-            if self.probe_csv is not None:
-                self.probe_csv.close()
-                self.probe_csv = None
-        self._sample(force=self.probe_times[-1] < self.time if self.probe_times else bool(self.probes))
-        for out in self.outputs:
-            if isinstance(out, VTK) and (not out._fluid.files or out._fluid.files[-1][0] < self.time):
-                self._write(out)
-            if isinstance(out, LineSampler):
-                if out.next_time - out.every < self.time - TIME_TOLERANCE:
-                    self._write(out)
-                out.close()
-        self._check_output_dirs()
-        return self.result(self.summary_so_far())
-
-    def summary_so_far(self):
-        """The summary of the current (or last) run up to now; also after an interruption or a blow-up."""
-        stats = self._stats or {"wall_start": _time.perf_counter(), "loop_start": None, "particle_steps": 0,
-                                "steps_at_start": self.step, "startup": self._startup_s}
-        now = _time.perf_counter()
-        loop_start = stats["loop_start"]
-        loop_time = (stats.get("loop_end", now) - loop_start) if loop_start is not None else 0.0
-        return self.summary(wall_time=now - stats["wall_start"], loop_time=loop_time,
-                            particle_steps=stats["particle_steps"], steps=self.step - stats["steps_at_start"],
-                            startup=stats["startup"] if loop_start is not None else now - stats["wall_start"])
-
-    # ------------------------------------------------------------------ writing
-    @contextlib.contextmanager
-    def _writing(self, path):
-        """Turn an OSError while writing ``path`` into an OutputError naming the file and the free space."""
-        try:
-            yield
-        except OutputError:
-            raise
-        except OSError as exc:
-            raise output_error(exc, path) from None
-
-    def _write(self, out):
-        self._check_output_dirs()
-        with self._writing(getattr(out, "path", None) or out.directory):
-            out.write(self)
-
-    def _check_output_dirs(self):
-        # open files (probes.csv, line_*.csv) accept writes after their directory is deleted, so look
-        for directory in self._output_dirs:
-            if not os.path.isdir(directory):
-                raise OutputError(f"output directory {directory} was removed during the run; stopped at "
-                                  f"t = {self.time:.6g} s", path=directory)
-
-    def _stop_for_signal(self):
-        """Stop asked for by a signal: checkpoint the state reached (consistent, between steps) and raise."""
-        for out in self.outputs:
-            if isinstance(out, Checkpoint):
-                self._write(out)
-        raise RunInterrupted(self.stop_requested)
+    def particles_per_step(self):
+        return self.fluid.particles.n + sum(w.n for w in self.walls)
 
     def summary(self, *, wall_time, loop_time, particle_steps, steps, startup):
         fp = self.fluid.particles
@@ -706,49 +485,28 @@ class Simulation:
                if self.couplings else {}),
         }
 
-    def result(self, summary):
-        times = np.asarray(self.probe_times, dtype=np.float64)
-        values = np.asarray(self.probe_values, dtype=np.float64).reshape(len(self.probe_times), len(self.probes))
-        probes = {p.name: values[:, k].copy() for k, p in enumerate(self.probes)}
-        return RunResult(times, probes, summary, list(self.escaped))
-
     # ------------------------------------------------------------------ checkpoints
-    def save_checkpoint(self, path):
-        """Write the complete state (HDF5) so that :meth:`restart` continues bit for bit."""
-        from .io.checkpoint import save_checkpoint
-
+    def _state_arrays(self):
         arrays = {"fluid": self.fluid.particles.as_dict()}
         for wall in self.walls:
             arrays[f"wall_{wall.name}"] = wall.particles.as_dict()
-        arrays["probes"] = {
-            "times": np.asarray(self.probe_times, dtype=np.float64),
-            "values": np.asarray(self.probe_values, dtype=np.float64).reshape(len(self.probe_times), len(self.probes)),
-        }
         for coupling in self.couplings:
             arrays[f"coupling_{coupling.name}"] = dict(coupling.arrays())
         # one row per removed particle: time, id, position, reason as its index in REASONS
         rows = [(*rec[:2 + self.dim], float(REASONS.index(record_reason(rec, self.dim)))) for rec in self.escaped]
         arrays["escaped"] = {"records": np.asarray(rows, dtype=np.float64).reshape(len(rows), 3 + self.dim)}
-        attrs = {"time": self.time, "step": self.step, "next_dt": self.next_dt,
-                 "escaped_mass": self.escaped_mass, "next_probe": self._next_probe,
-                 "probe_every": self.probe_every, "probe_names": [p.name for p in self.probes],
-                 "wall_model_state": {w.name: w.model.state() for w in self.walls},
-                 "coupling_state": {c.name: c.state() for c in self.couplings},
-                 "dim": self.dim, "n_fluid_initial_mass": self.fluid.initial_mass,
-                 "metadata": self.metadata, "physics": dict(self.physics._asdict())}
-        save_checkpoint(path, arrays, attrs)
+        return arrays
 
-    def restart(self, path):
-        """Load a checkpoint written by :meth:`save_checkpoint` into this (identically built) simulation."""
+    def _state_attrs(self):
+        return {"escaped_mass": self.escaped_mass,
+                "wall_model_state": {w.name: w.model.state() for w in self.walls},
+                "coupling_state": {c.name: c.state() for c in self.couplings},
+                "n_fluid_initial_mass": self.fluid.initial_mass,
+                "physics": dict(self.physics._asdict())}
+
+    def _check_state(self, path, arrays, attrs):
         from . import restart_checks as checks
-        from .io.checkpoint import load_checkpoint
 
-        try:
-            arrays, attrs = load_checkpoint(path)
-        except (OSError, ValueError) as exc:
-            raise ParameterError(str(exc)) from None
-        if attrs.get("dim") != self.dim:
-            raise ParameterError(f"checkpoint {path} is {attrs.get('dim')}D, this simulation is {self.dim}D")
         checks.check_setup(path, attrs, self.metadata, dict(self.physics._asdict()))
         checks.check_clock(path, attrs)
         checks.check_arrays(path, "the fluid", arrays.get("fluid"), self.fluid.particles.as_dict())
@@ -757,7 +515,8 @@ class Simulation:
             if key in arrays and arrays[key].get("x", np.zeros(0)).shape[:1] == (wall.n,):
                 checks.check_arrays(path, f"wall {wall.name!r}", arrays[key], wall.particles.as_dict(),
                                     require_all=False)
-        checks.check_probes(path, arrays.get("probes") or {}, len(self.probes))
+
+    def _load_state(self, path, arrays, attrs):
         for wall in self.walls:
             key = f"wall_{wall.name}"
             if key not in arrays or arrays[key]["x"].shape[0] != wall.n:
@@ -777,18 +536,8 @@ class Simulation:
         for name, a in arrays["fluid"].items():
             new.add(name, a)
         self.fluid.particles = new
-        self.time = float(attrs["time"])
-        self.step = int(attrs["step"])
-        self.next_dt = float(attrs["next_dt"])
         self.escaped_mass = float(attrs["escaped_mass"])
-        self._next_probe = float(attrs["next_probe"])
-        self.probe_every = attrs["probe_every"]
         self.fluid.initial_mass = float(attrs["n_fluid_initial_mass"])
-        names = list(attrs.get("probe_names") or [])
-        if names != [p.name for p in self.probes]:
-            raise ParameterError(f"checkpoint {path} has probes {names}, this simulation {[p.name for p in self.probes]}")
-        self.probe_times = arrays["probes"]["times"].tolist()
-        self.probe_values = arrays["probes"]["values"].tolist()
         records = arrays["escaped"]["records"]
         dim = self.dim
         if records.shape[1] == 3 + dim:
@@ -797,7 +546,6 @@ class Simulation:
             self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), "domain") for r in records]
         self._rates_ready = True
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])
-        return self
 
 
 def _hull_summary(box):
@@ -806,15 +554,3 @@ def _hull_summary(box):
         return None
     return {"lo": [c if math.isfinite(c) else None for c in map(float, box[0])],
             "hi": [c if math.isfinite(c) else None for c in map(float, box[1])]}
-
-
-def _progress_bar(t_end, t_start, enabled):
-    if not enabled:
-        return None
-    from tqdm import tqdm
-
-    # in a terminal the bar redraws twice a second; in a log file one line every 30 s is plenty
-    interactive = sys.stderr.isatty()
-    return tqdm(total=round(t_end, 6), initial=round(t_start, 6), unit="s", file=sys.stderr,
-                bar_format="{l_bar}{bar}| {n:.4f}/{total:.4f} s simulated [{elapsed}<{remaining}{postfix}]",
-                dynamic_ncols=True, mininterval=0.5 if interactive else 30.0)
