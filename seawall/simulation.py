@@ -28,6 +28,7 @@ from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
 from .probes import Probe
 from .sampling import LineSampler
+from .views import cell_view, fluid_rates_view, fluid_view
 
 
 @njit(cache=True)
@@ -313,10 +314,7 @@ class Simulation:
             grad = fp["grad_rho"]
         else:
             grad = self._empty_grad
-        fluid_rates(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], fp["m"], fp["p_over_rho2"],
-                    fp["volume"], grad, cells.start,
-                    cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
-                    fp["dv"], fp["drho"], fp["xsph"], fp["mu_max"],
+        fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, 0, fluid_rates_view(fp),
                     fp["grad_rho_next"] if lagged else self._empty_grad)
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
