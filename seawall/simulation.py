@@ -299,7 +299,8 @@ class Simulation:
                                       wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                                       False, rho)
         equation_of_state(fp["rho"], fp["m"], prm, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
-        ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing)
+        ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing,
+                                rates=fluid_rates_view(fp))
         for wall in self.walls:
             if wall.movement is not None and wall.movement.apply(wall, t):
                 wall.cells = g.build(wall.x)  # neighbour structures refreshed only while moving
@@ -314,7 +315,7 @@ class Simulation:
             grad = fp["grad_rho"]
         else:
             grad = self._empty_grad
-        fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, 0, fluid_rates_view(fp),
+        fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, 0, ctx.rates,
                     fp["grad_rho_next"] if lagged else self._empty_grad)
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]

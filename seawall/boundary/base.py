@@ -16,6 +16,7 @@ loops in their own module, so adding a model never touches the fluid code.
 """
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,6 +33,34 @@ class EvaluationContext:
     fluid_cells: object      # CellList of the fluid at the evaluation positions
     time: float
     dx: float                # fluid particle spacing
+    #: the fluid's rates of this evaluation (seawall.views.Rates: dv, drho, xsph, mu_max); None in
+    #: contexts built by hand, where :func:`rates_bundle` falls back to the fluid's own arrays
+    rates: object = None
+
+
+def rates_bundle(fluid, ctx, dv, drho):
+    """The :class:`~seawall.views.Rates` an ``interact`` writes: ``dv``, ``drho`` as given, and the
+    XSPH correction and time-step viscosity (``xsph``, ``mu_max``) of this evaluation."""
+    from ..views import Rates
+
+    if ctx.rates is not None:
+        return Rates(dv, drho, ctx.rates.xsph, ctx.rates.mu_max)
+    fp = fluid.particles
+    return Rates(dv, drho, fp["xsph"], fp["mu_max"])
+
+
+class CrossTerms(NamedTuple):
+    """Which of the fluid's pair terms (:data:`seawall.pairs.FLUID_TERMS`) act across a wall, as the
+    0/1 flags a compiled wall loop reads (:meth:`WallModel.cross_terms`)."""
+
+    continuity: int
+    pressure: int
+    tensile: int
+    artificial_viscosity: int
+    laminar_viscosity: int
+    density_diffusion: int
+    xsph: int
+    all_pairs: int          # the artificial viscosity acts on receding pairs too
 
 
 class WallModel:
@@ -39,6 +68,17 @@ class WallModel:
 
     #: name used on the command line and in reports
     name = "wall-model"
+    #: the fluid's pair terms (names in :data:`seawall.pairs.FLUID_TERMS`) that act between a fluid
+    #: particle and this wall's particles; a model may make it depend on its options (a property)
+    fluid_terms = frozenset()
+
+    def cross_terms(self, physics):
+        """:attr:`fluid_terms` as the :class:`CrossTerms` flags the compiled loops read."""
+        from ..pairs import FLUID_TERMS
+
+        terms = self.fluid_terms
+        # all_pairs: set from the fluid's ArtificialViscosity once Physics carries it
+        return CrossTerms(*(int(name in terms) for name in FLUID_TERMS), all_pairs=0)
 
     def prepare(self, wall, fluid, physics):
         """Called once when the simulation is built: allocate and check the wall's arrays."""
