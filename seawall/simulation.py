@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from .boundary.adhesion import add_adhesion
-from .boundary.base import EvaluationContext, WallSystem
+from .boundary.base import EvaluationContext, WallSystem, check_contract
 from .coupling import Coupling
 from .diagnostics import escaped_where
 from .errors import InstabilityError, ParameterError, require_positive
@@ -166,7 +166,12 @@ class Simulation:
             cells = self.grid.build(wall.x)
             wall.particles.permute(cells.order)  # walls sorted once for locality
             wall.cells = self.grid.build(wall.x)
+            check_contract(wall.model)
+            wall.model.check(self.fluid, self.physics)
             wall.model.prepare(wall, self.fluid, self.physics)
+            if wall.model.joins_summation_density and "m" not in wall.particles:
+                raise ParameterError(f"wall model {wall.model.name!r} joins the summation density but its "
+                                     f"prepare() gave wall {wall.name!r} no masses 'm'")
 
         self.time = 0.0
         self.step = 0
@@ -294,7 +299,7 @@ class Simulation:
             summation_density(g.layout, fp["x"], fp["m"], fp["x"], fp["m"], cells.start, cells.order, g.lo,
                               g.inv_cell, g.ncell, g.period, prm, True, rho)
             for wall in self.walls:
-                if "m" in wall.particles:
+                if wall.model.joins_summation_density:
                     summation_density(g.layout, fp["x"], fp["m"], wall.x, wall.particles["m"], wall.cells.start,
                                       wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                                       False, rho)

@@ -90,7 +90,14 @@ def fluid_rates_view(particles):
 
 
 def wall_view(particles, *, v="v", v_visc=None, rho="rho", p="p"):
-    """The :class:`WallView` of a wall's particle arrays, with the named velocity / state arrays."""
+    """The :class:`WallView` of a wall's particle arrays, with the named velocity / state arrays.
+
+    A wall without density, pressure or normals (repulsive rows) gets empty arrays for them.
+    """
     x = particles["x"]
-    normal = particles["normal"] if "normal" in particles else np.zeros((0, x.shape[1]))
-    return WallView(x, particles[v], particles[v_visc or v], particles[rho], particles[p], particles["m"], normal)
+
+    def array(name, shape):
+        return particles[name] if name in particles else np.zeros(shape)
+
+    return WallView(x, particles[v], particles[v_visc or v], array(rho, 0), array(p, 0), particles["m"],
+                    array("normal", (0, x.shape[1])))

@@ -64,13 +64,66 @@ class CrossTerms(NamedTuple):
 
 
 class WallModel:
-    """Base class of every wall treatment; subclasses implement update and interact."""
+    """Base class of every wall treatment; subclasses implement update and interact.
+
+    The contract a model declares (read by the simulation, the cases, the
+    registry and the contract tests, so nothing is decided silently):
+
+    ``layout``
+        ``"layers"``: wall particles in layers continuing the fluid lattice
+        (dummy, ghost, DBC); ``"surface"``: one row on the wall surface at
+        spacing dx / ``beta`` (repulsive walls). The cases build the geometry
+        the model asks for.
+    :meth:`options`
+        the keyword arguments of the constructor (``--set KEY=VALUE`` keys
+        reach the model through its registry factory, see
+        :func:`seawall.boundary.registry.boundary_options`).
+    ``fluid_terms``
+        the fluid's pair terms (:data:`seawall.pairs.FLUID_TERMS`) that act
+        between a fluid particle and a wall particle.
+    ``integrated_arrays``
+        the wall particle arrays the model advances in time inside
+        ``update`` (over the interval since its previous call, remembered
+        by :meth:`state`); they and the state go into checkpoints.
+    ``joins_summation_density``
+        whether the wall's masses ``m`` count in a summation-density fluid's
+        rho_i = sum_j m_j W_ij (seed 000 eq. 7).
+    :meth:`check`
+        refuses a bad combination with the fluid in one line, before
+        :meth:`prepare`.
+    """
 
     #: name used on the command line and in reports
     name = "wall-model"
+    #: "layers" (continuing the fluid lattice) or "surface" (one row at dx / beta)
+    layout = "layers"
     #: the fluid's pair terms (names in :data:`seawall.pairs.FLUID_TERMS`) that act between a fluid
     #: particle and this wall's particles; a model may make it depend on its options (a property)
     fluid_terms = frozenset()
+    #: names of the wall particle arrays advanced in time by ``update``
+    integrated_arrays = ()
+    #: whether the wall's masses join the fluid's summation density
+    joins_summation_density = False
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        legacy = cls.__dict__.get("wall_layout")
+        if isinstance(legacy, str):  # a model written before `layout` existed
+            cls.layout = legacy
+
+    @property
+    def wall_layout(self):
+        """Former name of :attr:`layout` (kept for code that reads it)."""
+        return self.layout
+
+    @classmethod
+    def options(cls):
+        """Names of the constructor's keyword arguments, in order."""
+        import inspect
+
+        params = inspect.signature(cls.__init__).parameters.values()
+        return tuple(p.name for p in params
+                     if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
 
     def cross_terms(self, physics):
         """:attr:`fluid_terms` as the :class:`CrossTerms` flags the compiled loops read."""
@@ -79,6 +132,9 @@ class WallModel:
         terms = self.fluid_terms
         # all_pairs: set from the fluid's ArtificialViscosity once Physics carries it
         return CrossTerms(*(int(name in terms) for name in FLUID_TERMS), all_pairs=0)
+
+    def check(self, fluid, physics):
+        """Raise :class:`~seawall.errors.ParameterError` (one line) if this model cannot serve ``fluid``."""
 
     def prepare(self, wall, fluid, physics):
         """Called once when the simulation is built: allocate and check the wall's arrays."""
@@ -99,6 +155,32 @@ class WallModel:
 
     def set_state(self, state):
         """Restore what :meth:`state` returned."""
+
+
+def noslip_viscosity(nu, physics):
+    """Kinematic viscosity of a no-slip wall term: ``nu`` if given, else the fluid's laminar nu, else
+    alpha h c0 / (2 d + 4) from its artificial viscosity (the equivalence given in seed 004)."""
+    if nu is not None:
+        wall_nu = nu
+    elif physics.nu > 0.0:
+        wall_nu = physics.nu
+    else:
+        wall_nu = physics.alpha * physics.h * physics.c0 / (2 * physics.dim + 4)
+    if wall_nu <= 0.0:
+        raise ParameterError("slip='noslip' needs a viscosity: give nu or use a fluid with viscosity")
+    return wall_nu
+
+
+def check_contract(model):
+    """Raise ParameterError if ``model`` declares something the core does not know (one line)."""
+    from ..pairs import FLUID_TERMS
+
+    if model.layout not in ("layers", "surface"):
+        raise ParameterError(f"wall model {model.name!r}: layout must be 'layers' or 'surface', got {model.layout!r}")
+    unknown = set(model.fluid_terms) - set(FLUID_TERMS)
+    if unknown:
+        raise ParameterError(f"wall model {model.name!r} declares unknown fluid term {sorted(unknown)[0]!r}; "
+                             f"known: {', '.join(FLUID_TERMS)}")
 
 
 class WallSystem:

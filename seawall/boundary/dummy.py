@@ -45,7 +45,7 @@ from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from ..pairs import continuity, gradient_factor, laminar_viscosity, pressure_acceleration
 from ..views import cell_view, fluid_view, wall_view
-from .base import WallModel, rates_bundle
+from .base import WallModel, noslip_viscosity, rates_bundle
 
 SLIP_MODES = ("free", "noslip")
 DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring")
@@ -298,6 +298,14 @@ class DummyParticles(WallModel):
         neighbour grid is built.
     """
 
+    #: the wall's hydrodynamic masses count in a summation-density fluid (seed 004)
+    joins_summation_density = True
+
+    @property
+    def integrated_arrays(self):
+        """The continuity calculator advances the wall density in ``update``."""
+        return ("rho",) if self.density == "continuity" else ()
+
     @property
     def fluid_terms(self):
         """Continuity and pressure; with no slip a laminar term with the wall's own nu (not the fluid's)."""
@@ -357,6 +365,11 @@ class DummyParticles(WallModel):
     def _physics(self, physics):
         return physics._replace(**self._overrides) if self._overrides else physics
 
+    def check(self, fluid, physics):
+        """No slip needs a viscosity (given, or the fluid's)."""
+        if self.slip == "noslip":
+            noslip_viscosity(self.nu, physics._replace(**self._own_physics(physics)))
+
     def prepare(self, wall, fluid, physics):
         self._overrides = self._own_physics(physics)
         physics = self._physics(physics)
@@ -369,14 +382,7 @@ class DummyParticles(WallModel):
         if self.density == "continuity":
             pa["drho"] = np.zeros(n)
         if self.slip == "noslip":
-            if self.nu is not None:
-                self._wall_nu = self.nu
-            elif physics.nu > 0.0:
-                self._wall_nu = physics.nu
-            else:
-                self._wall_nu = physics.alpha * physics.h * physics.c0 / (2 * physics.dim + 4)
-            if self._wall_nu <= 0.0:
-                raise ParameterError("slip='noslip' needs a viscosity: give nu or use a fluid with viscosity")
+            self._wall_nu = noslip_viscosity(self.nu, physics)
 
     def update(self, wall, fluid, ctx):
         g = ctx.grid

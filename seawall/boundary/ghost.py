@@ -262,6 +262,8 @@ class GhostParticles(WallModel):
     #: ghosts are ordinary neighbours with their mirrored state (seed 001 sec. 2.1), with the fluid's
     #: viscosities; no density diffusion across the wall (see the module doc)
     fluid_terms = frozenset({"continuity", "pressure", "artificial_viscosity", "laminar_viscosity"})
+    #: the ghosts' hydrodynamic masses count in a summation-density fluid
+    joins_summation_density = True
 
     def __init__(self, interpolation="shepard", *, slip="free"):
         if isinstance(interpolation, str):
