@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from .boundary.adhesion import add_adhesion
-from .boundary.base import EvaluationContext, WallSystem
+from .boundary.base import EvaluationContext, WallSystem, check_contract
 from .coupling import Coupling
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
@@ -30,6 +30,7 @@ from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
 from .probes import PressureSensor
 from .runner import RunResult, Runner, _progress_bar  # noqa: F401  (RunResult, _progress_bar: their old home)
+from .views import cell_view, fluid_rates_view, fluid_view
 
 
 class Simulation(Runner):
@@ -162,7 +163,12 @@ class Simulation(Runner):
             cells = self.grid.build(wall.x)
             wall.particles.permute(cells.order)  # walls sorted once for locality
             wall.cells = self.grid.build(wall.x)
+            check_contract(wall.model)
+            wall.model.check(self.fluid, self.physics)
             wall.model.prepare(wall, self.fluid, self.physics)
+            if wall.model.joins_summation_density and "m" not in wall.particles:
+                raise ParameterError(f"wall model {wall.model.name!r} joins the summation density but its "
+                                     f"prepare() gave wall {wall.name!r} no masses 'm'")
 
         self._init_run_state()      # time, step, probes, outputs (seawall.runner)
         self.fluid_cells = None
@@ -270,12 +276,13 @@ class Simulation(Runner):
             summation_density(g.layout, fp["x"], fp["m"], fp["x"], fp["m"], cells.start, cells.order, g.lo,
                               g.inv_cell, g.ncell, g.period, prm, True, rho)
             for wall in self.walls:
-                if "m" in wall.particles:
+                if wall.model.joins_summation_density:
                     summation_density(g.layout, fp["x"], fp["m"], wall.x, wall.particles["m"], wall.cells.start,
                                       wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                                       False, rho)
         equation_of_state(fp["rho"], fp["m"], prm, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
-        ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing)
+        ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing,
+                                rates=fluid_rates_view(fp))
         for wall in self.walls:
             if wall.movement is not None and wall.movement.apply(wall, t):
                 wall.cells = g.build(wall.x)  # neighbour structures refreshed only while moving
@@ -290,10 +297,7 @@ class Simulation(Runner):
             grad = fp["grad_rho"]
         else:
             grad = self._empty_grad
-        fluid_rates(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], fp["m"], fp["p_over_rho2"],
-                    fp["volume"], grad, cells.start,
-                    cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
-                    fp["dv"], fp["drho"], fp["xsph"], fp["mu_max"],
+        fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, ctx.rates,
                     fp["grad_rho_next"] if lagged else self._empty_grad)
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]

@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
+from ..views import cell_view
 
 
 @njit(cache=True, inline="always")
@@ -45,9 +46,16 @@ def adhesion_kernel(r, s):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def adhesion_accelerations(layout, xf, xw, psi, start, order, reach, lo, inv_cell, ncell, period, support,
-                           beta, dv):
+def adhesion_accelerations(xf, xw, psi, cells, support, beta, dv):
     """Add a_i = -beta sum_k Psi_k C(r_ik) (x_i - x_k)/r_ik to every fluid particle near the wall."""
+    layout = cells.layout
+    start = cells.start
+    order = cells.order
+    reach = cells.reach
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nrows = 25 if dim == 3 else 5
@@ -83,6 +91,5 @@ def add_adhesion(wall, fluid, ctx, support, dv):
     pa = wall.particles
     if "adhesion_mass" not in pa:
         pa["adhesion_mass"] = np.full(wall.n, ctx.physics.rho0 * wall.spacing ** wall.dim)
-    adhesion_accelerations(g.layout, fluid.particles["x"], pa["x"], pa["adhesion_mass"], wall.cells.start,
-                           wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, g.period,
+    adhesion_accelerations(fluid.particles["x"], pa["x"], pa["adhesion_mass"], cell_view(g, wall.cells, reach=True),
                            support, wall.adhesion_coefficient, dv)

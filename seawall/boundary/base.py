@@ -16,6 +16,7 @@ loops in their own module, so adding a model never touches the fluid code.
 """
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,13 +33,109 @@ class EvaluationContext:
     fluid_cells: object      # CellList of the fluid at the evaluation positions
     time: float
     dx: float                # fluid particle spacing
+    #: the fluid's rates of this evaluation (seawall.views.Rates: dv, drho, xsph, mu_max); None in
+    #: contexts built by hand, where :func:`rates_bundle` falls back to the fluid's own arrays
+    rates: object = None
+
+
+def rates_bundle(fluid, ctx, dv, drho):
+    """The :class:`~seawall.views.Rates` an ``interact`` writes: ``dv``, ``drho`` as given, and the
+    XSPH correction and time-step viscosity (``xsph``, ``mu_max``) of this evaluation."""
+    from ..views import Rates
+
+    if ctx.rates is not None:
+        return Rates(dv, drho, ctx.rates.xsph, ctx.rates.mu_max)
+    fp = fluid.particles
+    return Rates(dv, drho, fp["xsph"], fp["mu_max"])
+
+
+class CrossTerms(NamedTuple):
+    """Which of the fluid's pair terms (:data:`seawall.pairs.FLUID_TERMS`) act across a wall, as the
+    0/1 flags a compiled wall loop reads (:meth:`WallModel.cross_terms`)."""
+
+    continuity: int
+    pressure: int
+    tensile: int
+    artificial_viscosity: int
+    laminar_viscosity: int
+    density_diffusion: int
+    xsph: int
+    all_pairs: int          # the artificial viscosity acts on receding pairs too
 
 
 class WallModel:
-    """Base class of every wall treatment; subclasses implement update and interact."""
+    """Base class of every wall treatment; subclasses implement update and interact.
+
+    The contract a model declares (read by the simulation, the cases, the
+    registry and the contract tests, so nothing is decided silently):
+
+    ``layout``
+        ``"layers"``: wall particles in layers continuing the fluid lattice
+        (dummy, ghost, DBC); ``"surface"``: one row on the wall surface at
+        spacing dx / ``beta`` (repulsive walls). The cases build the geometry
+        the model asks for.
+    :meth:`options`
+        the keyword arguments of the constructor (``--set KEY=VALUE`` keys
+        reach the model through its registry factory, see
+        :func:`seawall.boundary.registry.boundary_options`).
+    ``fluid_terms``
+        the fluid's pair terms (:data:`seawall.pairs.FLUID_TERMS`) that act
+        between a fluid particle and a wall particle.
+    ``integrated_arrays``
+        the wall particle arrays the model advances in time inside
+        ``update`` (over the interval since its previous call, remembered
+        by :meth:`state`); they and the state go into checkpoints.
+    ``joins_summation_density``
+        whether the wall's masses ``m`` count in a summation-density fluid's
+        rho_i = sum_j m_j W_ij (seed 000 eq. 7).
+    :meth:`check`
+        refuses a bad combination with the fluid in one line, before
+        :meth:`prepare`.
+    """
 
     #: name used on the command line and in reports
     name = "wall-model"
+    #: "layers" (continuing the fluid lattice) or "surface" (one row at dx / beta)
+    layout = "layers"
+    #: the fluid's pair terms (names in :data:`seawall.pairs.FLUID_TERMS`) that act between a fluid
+    #: particle and this wall's particles; a model may make it depend on its options (a property)
+    fluid_terms = frozenset()
+    #: names of the wall particle arrays advanced in time by ``update``
+    integrated_arrays = ()
+    #: whether the wall's masses join the fluid's summation density
+    joins_summation_density = False
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        legacy = cls.__dict__.get("wall_layout")
+        if isinstance(legacy, str):  # a model written before `layout` existed
+            cls.layout = legacy
+
+    @property
+    def wall_layout(self):
+        """Former name of :attr:`layout` (kept for code that reads it)."""
+        return self.layout
+
+    @classmethod
+    def options(cls):
+        """Names of the constructor's keyword arguments, in order."""
+        import inspect
+
+        params = inspect.signature(cls.__init__).parameters.values()
+        return tuple(p.name for p in params
+                     if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
+
+    def cross_terms(self, physics):
+        """:attr:`fluid_terms` as the :class:`CrossTerms` flags the compiled loops read."""
+        from ..pairs import FLUID_TERMS
+
+        terms = self.fluid_terms
+        # the fluid's ArtificialViscosity(all_pairs=...) holds across the wall too
+        return CrossTerms(*(int(name in terms) for name in FLUID_TERMS),
+                          all_pairs=int(getattr(physics, "alpha_all_pairs", 0)))
+
+    def check(self, fluid, physics):
+        """Raise :class:`~seawall.errors.ParameterError` (one line) if this model cannot serve ``fluid``."""
 
     #: Does the wall push the fluid by one pair force per (fluid, wall) particle pair?
     #:
@@ -74,6 +171,32 @@ class WallModel:
 
     def set_state(self, state):
         """Restore what :meth:`state` returned."""
+
+
+def noslip_viscosity(nu, physics):
+    """Kinematic viscosity of a no-slip wall term: ``nu`` if given, else the fluid's laminar nu, else
+    alpha h c0 / (2 d + 4) from its artificial viscosity (the equivalence given in seed 004)."""
+    if nu is not None:
+        wall_nu = nu
+    elif physics.nu > 0.0:
+        wall_nu = physics.nu
+    else:
+        wall_nu = physics.alpha * physics.h * physics.c0 / (2 * physics.dim + 4)
+    if wall_nu <= 0.0:
+        raise ParameterError("slip='noslip' needs a viscosity: give nu or use a fluid with viscosity")
+    return wall_nu
+
+
+def check_contract(model):
+    """Raise ParameterError if ``model`` declares something the core does not know (one line)."""
+    from ..pairs import FLUID_TERMS
+
+    if model.layout not in ("layers", "surface"):
+        raise ParameterError(f"wall model {model.name!r}: layout must be 'layers' or 'surface', got {model.layout!r}")
+    unknown = set(model.fluid_terms) - set(FLUID_TERMS)
+    if unknown:
+        raise ParameterError(f"wall model {model.name!r} declares unknown fluid term {sorted(unknown)[0]!r}; "
+                             f"known: {', '.join(FLUID_TERMS)}")
 
 
 class WallSystem:

@@ -52,6 +52,8 @@ Choices where the seed is silent or ambiguous (see docs/idbc.md):
   the (projected) distance over h.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit, prange
 
@@ -59,7 +61,10 @@ from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError, require_nonnegative
 from ..kernels import CUBIC_SPLINE, kernel_shape, kernel_shape_dq
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
-from .base import WallModel
+from ..pairs import (continuity, monaghan_viscosity, pressure_acceleration, tensile_coefficient, tensile_term,
+                     viscosity_acts, xsph_weight)
+from ..views import cell_view, fluid_view, wall_view
+from .base import WallModel, rates_bundle
 
 #: coefficients a_k of the expanded Tait EOS, seed 000 eq. 21: (1/7) C(7, k+1)
 EXPANSION = np.array([1.0, 3.0, 5.0, 5.0, 3.0, 1.0, 1.0 / 7.0])
@@ -179,21 +184,59 @@ def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order,
         drift_w[b] = dr
 
 
+class DynamicParams(NamedTuple):
+    """The compiled parameters of a dynamic boundary (seed 000 sec. 3)."""
+
+    eos_order: int      # terms of the expanded Tait EOS in the pair (eq. 21-23)
+    rectangular: int    # rectangular support of eq. 26
+    corr: float         # alpha_DB of eq. 28 (1 without the correction)
+    half_a: float       # half widths of the rectangle along the two tangents
+    half_b: float
+    alpha_wall: float   # artificial viscosity alpha of fluid-wall pairs (eq. 6)
+
+
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, start, order, lo, inv_cell,
-                     ncell, period, prm, eos_order, rect, corr, half_a, half_b, alpha_wall, dv, drho, mu_max,
-                     xsph):
-    """Add the wall's terms to the fluid's rates.
+def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, rates):
+    """Add the wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
     continuity: drho_a += m_b (v_a - v_b) . grad_a W_ab                       (seed 000 eq. 8)
     momentum:   dv_a -= m_b (P_N(rho_a)/rho_a^2 + P_N(rho_b)/rho_b^2 + Pi_ab + f_ten) grad_a W_ab
                 (seed 000 eq. 5 with the expanded EOS of eq. 21; eq. 23 for two particles)
     Pi_ab = -alpha_wall c_ab mu_ab / rho_ab for v_ab . r_ab < 0                (seed 000 eq. 6)
     f_ten = (R_a + R_b) (w(q)/w(dx/h))^4, R = eps P/rho^2                     (seed 000 eq. 20)
-    mu_max[a] is raised to |mu_ab| for the time-step rule (seed 000 eq. 11).
-    XSPH:       xsph_a += eps m_b / rho_ab (v_b - v_a) W_ab  (seed 000 eq. 10: the wall particles
+    rates.mu_max[a] is raised to |mu_ab| for the time-step rule (seed 000 eq. 11).
+    XSPH:       rates.xsph_a += eps m_b / rho_ab (v_b - v_a) W_ab  (seed 000 eq. 10: the wall particles
                 are neighbours like any other in DBC)
+    The tensile and XSPH terms act when the fluid has them and ``terms`` (CrossTerms) lets them across.
     """
+    layout = cells.layout
+    xf = fluid.x
+    vf = fluid.v
+    rhof = fluid.rho
+    cf = fluid.c
+    xw = wall.x
+    vw = wall.v
+    nw_ = wall.normal
+    rhow = wall.rho
+    mw = wall.m
+    t1w = tangent1
+    t2w = tangent2
+    start = cells.start
+    order = cells.order
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
+    eos_order = dyn.eos_order
+    rect = dyn.rectangular
+    corr = dyn.corr
+    half_a = dyn.half_a
+    half_b = dyn.half_b
+    alpha_wall = dyn.alpha_wall
+    dv = rates.dv
+    drho = rates.drho
+    mu_max = rates.mu_max
+    xsph = rates.xsph
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     n = xf.shape[0]
@@ -203,10 +246,10 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
     nrows = 25 if dim == 3 else 5
     rho0 = prm.rho0
     c0 = prm.c0
-    tensile = prm.tensile
+    tensile = prm.tensile and terms.tensile
     w_dx = prm.inv_w_dx * prm.sigma  # 1 / w(dx/h)
     eps = prm.xsph
-    use_xsph = eps > 0.0
+    use_xsph = eps > 0.0 and terms.xsph
     for i in prange(n):
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -214,7 +257,7 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
         rhoi = rhof[i]
         pa = expanded_pressure(rhoi, rho0, c0, eos_order, prm.p_background)
         pr_a = pa / (rhoi * rhoi)
-        ra = (0.01 if pa > 0.0 else -0.2) * pr_a
+        ra = tensile_coefficient(pa, rhoi)
         a0 = a1 = a2 = 0.0
         dr = 0.0
         x0 = x1 = x2 = 0.0
@@ -239,28 +282,26 @@ def dbc_fluid_forces(layout, xf, vf, rhof, cf, xw, vw, nw_, t1w, t2w, rhow, mw, 
                     mb = mw[b]
                     vb0, vb1, vb2 = point_of(vw, b, dim)
                     ve = (vi0 - vb0) * e0 + (vi1 - vb1) * e1 + (vi2 - vb2) * e2
-                    dr += mb * g * ve
+                    # grad_a W = g e: the continuity term with the unit direction e and factor g
+                    dr += continuity(mb, ve, g)
                     rhob = rhow[b]
                     pb = expanded_pressure(rhob, rho0, c0, eos_order, prm.p_background)
                     pr_b = pb / (rhob * rhob)
                     coef = pr_a + pr_b
                     if tensile:
-                        rb = (0.01 if pb > 0.0 else -0.2) * pr_b
-                        ratio = s * w_dx
-                        ratio2 = ratio * ratio
-                        coef += (ra + rb) * ratio2 * ratio2
+                        coef += tensile_term(ra, tensile_coefficient(pb, rhob), s * w_dx)
                     mu = h * ve * rr / (r2 + prm.eta2)
                     if abs(mu) > mumax:
                         mumax = abs(mu)
-                    if alpha_wall > 0.0 and ve < 0.0:
+                    if alpha_wall > 0.0 and viscosity_acts(ve, terms.all_pairs):
                         cb = eos_sound_speed(prm.eos, rhob, rho0, c0, prm.gamma)
-                        coef += -alpha_wall * 0.5 * (cf[i] + cb) * mu / (0.5 * (rhoi + rhob))
-                    sc = -mb * coef * g
+                        coef += monaghan_viscosity(alpha_wall, 0.0, mu, 0.5 * (cf[i] + cb), 0.5 * (rhoi + rhob))
+                    sc = pressure_acceleration(mb, coef, g)
                     a0 += sc * e0
                     a1 += sc * e1
                     a2 += sc * e2
                     if use_xsph:
-                        wx = mb * w / (0.5 * (rhoi + rhob))
+                        wx = xsph_weight(w, mb, rhoi, rhob)
                         x0 -= wx * (vi0 - vb0)
                         x1 -= wx * (vi1 - vb1)
                         x2 -= wx * (vi2 - vb2)
@@ -358,6 +399,17 @@ class ImprovedDynamicBoundary(WallModel):
     pairwise_momentum = True
 
     name = "idbc"
+    #: DBC treats wall particles as neighbours like any other (seed 000 sec. 2): the tensile
+    #: correction and XSPH of the fluid act across the wall; the artificial viscosity is the wall's
+    #: own (alpha_wall); no laminar viscosity or density diffusion
+    fluid_terms = frozenset({"continuity", "pressure", "tensile", "artificial_viscosity", "xsph"})
+    #: the wall's masses count in a summation-density fluid
+    joins_summation_density = True
+
+    @property
+    def integrated_arrays(self):
+        """The wall density (``continuity``) or the integral of the XSPH drift (``consistent``)."""
+        return ("rho",) if self.wall_density == "continuity" else ("drift_int",)
 
     def __init__(self, *, order=7, rectangular=True, correction=None, alpha_wall=0.0, initial_pressure=None,
                  wall_density=None):
@@ -433,7 +485,10 @@ class ImprovedDynamicBoundary(WallModel):
         rate = np.empty(n)
         total = np.empty(n)
         drift = np.empty(n)
-        xsph = fp["xsph"] if "xsph" in fp else np.zeros_like(fp["v"])
+        if ctx.rates is not None:
+            xsph = ctx.rates.xsph  # the fluid's XSPH correction of the previous evaluation
+        else:
+            xsph = fp["xsph"] if "xsph" in fp else np.zeros_like(fp["v"])
         dbc_wall_rate(g.layout, pa["x"], pa["v"], pa["normal"], pa["tangent1"], pa["tangent2"], fp["x"], fp["v"],
                       xsph, fp["m"], ctx.fluid_cells.start, ctx.fluid_cells.order, g.lo, g.inv_cell, g.ncell,
                       g.period, ctx.physics, self.rectangular, self._corr, self._half[0], self._half[1], rate,
@@ -466,14 +521,12 @@ class ImprovedDynamicBoundary(WallModel):
         self._t_last = state.get("t_last")
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        g = ctx.grid
         pa = wall.particles
-        fp = fluid.particles
-        dbc_fluid_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["c"], pa["x"], pa["v"], pa["normal"],
-                         pa["tangent1"], pa["tangent2"], pa["rho"], pa["m"], wall.cells.start, wall.cells.order,
-                         g.lo, g.inv_cell, g.ncell, g.period, ctx.physics, self.order, self.rectangular,
-                         self._corr, self._half[0], self._half[1], self.alpha_wall, dv, drho, fp["mu_max"],
-                         fp["xsph"])
+        dyn = DynamicParams(self.order, int(self.rectangular), self._corr, self._half[0], self._half[1],
+                            self.alpha_wall)
+        dbc_fluid_forces(fluid_view(fluid.particles), wall_view(pa), pa["tangent1"], pa["tangent2"],
+                         cell_view(ctx.grid, wall.cells), ctx.physics, dyn, self.cross_terms(ctx.physics),
+                         rates_bundle(fluid, ctx, dv, drho))
 
     def describe(self):
         parts = [f"order {self.order}", "rectangular" if self.rectangular else "circular"]

@@ -44,7 +44,9 @@ from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
-from .base import WallModel
+from ..pairs import continuity, gradient_factor, laminar_viscosity, pressure_acceleration
+from ..views import cell_view, fluid_view, wall_view
+from .base import WallModel, noslip_viscosity, rates_bundle
 
 SLIP_MODES = ("free", "noslip")
 DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring")
@@ -182,19 +184,38 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, start, order, reach, lo, inv_cell,
-                      ncell, period, prm, mirror, wall_nu, dv, drho):
-    """Add the dummy wall's terms to the fluid's rates.
+def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
+    """Add the dummy wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
     continuity:  drho_i += m_b (v_i - v_b) . grad_i W_ib, v_b the wall's own velocity
                  (Adami et al. 2012, eq. 24 form; seed 000 eq. 8 with b a wall particle)
     momentum:    dv_i -= m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib    (seed 000 eq. 5)
                  with p_b = p_i, rho_b = rho0 when ``mirror`` (seed 004, PressureMirroring)
     no slip:     dv_i += m_b nu (rho_i + rho_b)/(rho_i rho_b) (v_i - v_w) (r_ib . grad W)/(r^2 + eta^2)
-                 when wall_nu > 0 (seed 003 eq. 9 form with the Adami wall velocity v_w)
+                 when wall_nu > 0 (seed 003 eq. 9 form with the Adami wall velocity v_w = wall.v_visc)
 
-    ``reach`` flags the cells with a wall particle in reach: the others are skipped.
+    ``cells`` is the wall's CellView with its reach mask: fluid particles in other cells are skipped.
     """
+    layout = cells.layout
+    xf = fluid.x
+    vf = fluid.v
+    rhof = fluid.rho
+    pf = fluid.p
+    xw = wall.x
+    vw = wall.v
+    vw_visc = wall.v_visc
+    rhow = wall.rho
+    pw = wall.p
+    mw = wall.m
+    start = cells.start
+    order = cells.order
+    reach = cells.reach
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
+    dv = rates.dv
+    drho = rates.drho
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nf = xf.shape[0]
@@ -221,23 +242,23 @@ def dummy_wall_forces(layout, xf, vf, rhof, pf, xw, vw, vw_visc, rhow, pw, mw, s
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)
-                    f = gradient_scale * kernel_gradient_factor(prm.kernel, r * inv_h)
+                    f = gradient_factor(prm.kernel, gradient_scale, r * inv_h)
                     mb = mw[b]
                     vb0, vb1, vb2 = point_of(vw, b, dim)
-                    dr += mb * ((vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2) * f
+                    dr += continuity(mb, (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2, f)
                     if mirror:
                         coef = pr_i + pf[i] / (prm.rho0 * prm.rho0)
                         rhob = prm.rho0
                     else:
                         rhob = rhow[b]
                         coef = pr_i + pw[b] / (rhob * rhob)
-                    s = -mb * coef * f
+                    s = pressure_acceleration(mb, coef, f)
                     a0 += s * d0
                     a1 += s * d1
                     a2 += s * d2
                     if wall_nu > 0.0:
                         w0, w1, w2 = point_of(vw_visc, b, dim)
-                        lam = mb * wall_nu * (rhoi + rhob) / (rhoi * rhob) * f * r2 / (r2 + eta2)
+                        lam = laminar_viscosity(mb, wall_nu, rhoi, rhob, f, r2, eta2)
                         a0 += lam * (vi0 - w0)
                         a1 += lam * (vi1 - w1)
                         a2 += lam * (vi2 - w2)
@@ -283,6 +304,21 @@ class DummyParticles(WallModel):
     #: wall particle b, with b's state set in update; central. With pressure mirroring p_b is
     #: i's own pressure: still one term per pair.
     pairwise_momentum = True
+    #: the wall's hydrodynamic masses count in a summation-density fluid (seed 004)
+    joins_summation_density = True
+
+    @property
+    def integrated_arrays(self):
+        """The continuity calculator advances the wall density in ``update``."""
+        return ("rho",) if self.density == "continuity" else ()
+
+    @property
+    def fluid_terms(self):
+        """Continuity and pressure; with no slip a laminar term with the wall's own nu (not the fluid's)."""
+        terms = {"continuity", "pressure"}
+        if self.slip == "noslip":
+            terms.add("laminar_viscosity")
+        return frozenset(terms)
 
     def __init__(self, *, density="adami", slip="free", nu=None, clip_negative_pressure=None, eos=None,
                  kernel=None, smoothing_length=None):
@@ -335,6 +371,11 @@ class DummyParticles(WallModel):
     def _physics(self, physics):
         return physics._replace(**self._overrides) if self._overrides else physics
 
+    def check(self, fluid, physics):
+        """No slip needs a viscosity (given, or the fluid's)."""
+        if self.slip == "noslip":
+            noslip_viscosity(self.nu, physics._replace(**self._own_physics(physics)))
+
     def prepare(self, wall, fluid, physics):
         self._overrides = self._own_physics(physics)
         physics = self._physics(physics)
@@ -347,14 +388,7 @@ class DummyParticles(WallModel):
         if self.density == "continuity":
             pa["drho"] = np.zeros(n)
         if self.slip == "noslip":
-            if self.nu is not None:
-                self._wall_nu = self.nu
-            elif physics.nu > 0.0:
-                self._wall_nu = physics.nu
-            else:
-                self._wall_nu = physics.alpha * physics.h * physics.c0 / (2 * physics.dim + 4)
-            if self._wall_nu <= 0.0:
-                raise ParameterError("slip='noslip' needs a viscosity: give nu or use a fluid with viscosity")
+            self._wall_nu = noslip_viscosity(self.nu, physics)
 
     def update(self, wall, fluid, ctx):
         g = ctx.grid
@@ -389,14 +423,9 @@ class DummyParticles(WallModel):
             pa["p"][:] = prm.p_background
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        g = ctx.grid
-        pa = wall.particles
-        fp = fluid.particles
-        dummy_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], pa["x"], pa["v"], pa["v_visc"],
-                          pa["rho"], pa["p"], pa["m"], wall.cells.start, wall.cells.order,
-                          wall.cells.reach_mask(g), g.lo,
-                          g.inv_cell, g.ncell, g.period, self._physics(ctx.physics), self.density == "mirroring",
-                          self._wall_nu, dv, drho)
+        dummy_wall_forces(fluid_view(fluid.particles), wall_view(wall.particles, v_visc="v_visc"),
+                          cell_view(ctx.grid, wall.cells, reach=True), self._physics(ctx.physics),
+                          self.density == "mirroring", self._wall_nu, rates_bundle(fluid, ctx, dv, drho))
 
     def state(self):
         """Model state that a checkpoint must keep (continuity's last evaluation time)."""

@@ -54,9 +54,11 @@ from numba import njit, prange
 
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError
-from ..kernels import kernel_shape_dq
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
-from .base import WallModel
+from ..pairs import (continuity, gradient_factor, laminar_viscosity, monaghan_viscosity, pressure_acceleration,
+                     viscosity_acts)
+from ..views import cell_view, fluid_view, wall_view
+from .base import WallModel, rates_bundle
 from .interpolation import (INTERPOLATIONS, Interpolation, interpolate_points)
 
 SLIP_MODES = ("free", "noslip")
@@ -108,21 +110,42 @@ def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm,
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, order, lo, inv_cell, ncell, period,
-                 prm, dv, drho):
-    """Add the ghost particles' terms to the fluid's rates (gather over ghost cells; formulas in the module doc)."""
+def ghost_forces(fluid, wall, cells, prm, terms, rates):
+    """Add the ghost particles' terms to the fluid's rates (gather over ghost cells; formulas in the module doc).
+
+    ``wall.v`` holds the mirrored ghost velocities; ``terms`` (:class:`~seawall.boundary.base.CrossTerms`)
+    says which of the fluid's viscous terms act across the wall.
+    """
+    layout = cells.layout
+    xf = fluid.x
+    vf = fluid.v
+    rhof = fluid.rho
+    pf = fluid.p
+    cf = fluid.c
+    xg = wall.x
+    vg = wall.v
+    rhog = wall.rho
+    pg = wall.p
+    mg = wall.m
+    start = cells.start
+    order = cells.order
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
+    dv = rates.dv
+    drho = rates.drho
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nf = xf.shape[0]
     h = prm.h
     inv_h = 1.0 / h
     nrows = 25 if dim == 3 else 5
-    dwq = prm.sigma * inv_h
+    gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
-    alpha = prm.alpha
-    all_pairs = prm.alpha_all_pairs != 0  # the fluid's own switch (seed 001 eq. 5)
+    alpha = prm.alpha if terms.artificial_viscosity else 0.0
     beta = prm.beta
-    nu = prm.nu
+    nu = prm.nu if terms.laminar_viscosity else 0.0
     for i in prange(nf):
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -141,7 +164,7 @@ def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, orde
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)
-                    f = dwq * kernel_shape_dq(prm.kernel, r * inv_h) / r
+                    f = gradient_factor(prm.kernel, gradient_scale, r * inv_h)
                     mb = mg[b]
                     rhob = rhog[b]
                     w0, w1, w2 = point_of(vg, b, dim)
@@ -149,18 +172,18 @@ def ghost_forces(layout, xf, vf, rhof, pf, cf, xg, vg, rhog, pg, mg, start, orde
                     u1 = vi1 - w1
                     u2 = vi2 - w2
                     vr = u0 * d0 + u1 * d1 + u2 * d2
-                    dr += mb * vr * f
+                    dr += continuity(mb, vr, f)
                     coef = pr_i + pg[b] / (rhob * rhob)
-                    if alpha > 0.0 and (vr < 0.0 or all_pairs):
-                        mu = h * vr / (r2 + eta2)
+                    if alpha > 0.0 and viscosity_acts(vr, terms.all_pairs):
                         cb = eos_sound_speed(prm.eos, rhob, prm.rho0, prm.c0, prm.gamma)
-                        coef += (-alpha * 0.5 * (ci + cb) * mu + beta * mu * mu) / (0.5 * (rhoi + rhob))
-                    s = -mb * coef * f
+                        coef += monaghan_viscosity(alpha, beta, h * vr / (r2 + eta2), 0.5 * (ci + cb),
+                                                   0.5 * (rhoi + rhob))
+                    s = pressure_acceleration(mb, coef, f)
                     a0 += s * d0
                     a1 += s * d1
                     a2 += s * d2
                     if nu > 0.0:
-                        lam = mb * nu * (rhoi + rhob) / (rhoi * rhob) * f * r2 / (r2 + eta2)
+                        lam = laminar_viscosity(mb, nu, rhoi, rhob, f, r2, eta2)
                         a0 += lam * u0
                         a1 += lam * u1
                         a2 += lam * u2
@@ -241,6 +264,11 @@ class GhostParticles(WallModel):
     #: push is then one symmetric pressure (seed 000 eq. 5 form) and viscous pair term per
     #: ghost; central. The wall force of seed 001 eq. 29 is the sum of their reactions.
     pairwise_momentum = True
+    #: ghosts are ordinary neighbours with their mirrored state (seed 001 sec. 2.1), with the fluid's
+    #: viscosities; no density diffusion across the wall (see the module doc)
+    fluid_terms = frozenset({"continuity", "pressure", "artificial_viscosity", "laminar_viscosity"})
+    #: the ghosts' hydrodynamic masses count in a summation-density fluid
+    joins_summation_density = True
 
     def __init__(self, interpolation="shepard", *, slip="free"):
         if isinstance(interpolation, str):
@@ -290,12 +318,9 @@ class GhostParticles(WallModel):
                        pa["n_interp"], ctx.physics, self.slip == "noslip", pa["p"], pa["rho"], pa["v_ghost"])
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        g = ctx.grid
-        pa = wall.particles
-        fp = fluid.particles
-        ghost_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], fp["c"], pa["x"], pa["v_ghost"], pa["rho"],
-                     pa["p"], pa["m"], wall.cells.start, wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period,
-                     ctx.physics, dv, drho)
+        ghost_forces(fluid_view(fluid.particles), wall_view(wall.particles, v="v_ghost"),
+                     cell_view(ctx.grid, wall.cells), ctx.physics, self.cross_terms(ctx.physics),
+                     rates_bundle(fluid, ctx, dv, drho))
 
     def describe(self):
         return self.name

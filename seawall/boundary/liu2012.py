@@ -28,6 +28,7 @@ from numba import njit, prange
 
 from ..errors import require_positive
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
+from ..views import cell_view
 from .base import WallModel
 
 
@@ -53,8 +54,16 @@ def liu2012_factor(r, h, dd, c):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def liu2012_wall_forces(layout, xf, xw, start, order, reach, lo, inv_cell, ncell, period, prm, dd, c, dv):
+def liu2012_wall_forces(xf, xw, cells, prm, dd, c, dv):
     """Add the Liu et al. (2012) boundary force of every boundary particle within dd to the fluid's dv."""
+    layout = cells.layout
+    start = cells.start
+    order = cells.order
+    reach = cells.reach
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nrows = 25 if dim == 3 else 5
@@ -95,7 +104,7 @@ class Liu2012Force(WallModel):
         The speed c of the force scale 0.01 c^2 [m/s]; default the fluid's c0.
 
     The cases build the row on the wall surface at spacing dx / beta
-    (``wall_layout = "surface"``, as for Monaghan-Kajtar).
+    (``layout = "surface"``, as for Monaghan-Kajtar).
     """
 
     #: pairwise_momentum (see WallModel): one central force per boundary particle, a function
@@ -103,7 +112,9 @@ class Liu2012Force(WallModel):
     pairwise_momentum = True
 
     name = "liu2012"
-    wall_layout = "surface"
+    layout = "surface"
+    #: the row's masses count in a summation-density fluid (as they always did)
+    joins_summation_density = True
 
     def __init__(self, *, beta=2.0, c=None):
         self.beta = require_positive("beta", beta)
@@ -120,9 +131,7 @@ class Liu2012Force(WallModel):
         """Boundary-force particles carry no state to update."""
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        g = ctx.grid
-        liu2012_wall_forces(g.layout, fluid.particles["x"], wall.x, wall.cells.start, wall.cells.order,
-                            wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, g.period, ctx.physics,
+        liu2012_wall_forces(fluid.particles["x"], wall.x, cell_view(ctx.grid, wall.cells, reach=True), ctx.physics,
                             self._dd, self._c, dv)
 
     def describe(self):

@@ -45,9 +45,11 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError, require_nonnegative
-from ..kernels import kernel_gradient_factor, kernel_shape
+from ..kernels import kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
-from .base import WallModel
+from ..pairs import continuity, gradient_factor, laminar_viscosity
+from ..views import cell_view, fluid_view, wall_view
+from .base import WallModel, noslip_viscosity
 
 SLIP_MODES = ("free", "noslip")
 #: "normal": eq. 21 as the normal projection of v_ib; "conditional": eq. 21 literally
@@ -124,12 +126,29 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, vbn, pw, mw, rho_b, start, order, reach, lo, inv_cell,
-                        ncell, period, prm, continuity, wall_nu, dv, drho):
+def liu2015_wall_forces(fluid, wall, vbn, rho_b, cells, prm, continuity_mode, wall_nu, dv, drho):
     """Add seed 003 eq. 21 (density), eq. 22 (pressure) and, with ``wall_nu`` > 0, the eq. 9 viscous term.
 
-    continuity: 0 = normal projection, 1 = literal conditional form, 2 = none.
+    ``wall.v`` holds the dummy velocities v_b, ``vbn`` their normal components (eq. 21);
+    continuity_mode: 0 = normal projection, 1 = literal conditional form, 2 = none.
     """
+    layout = cells.layout
+    xf = fluid.x
+    vf = fluid.v
+    rhof = fluid.rho
+    pf = fluid.p
+    xw = wall.x
+    nw = wall.normal
+    vb = wall.v
+    pw = wall.p
+    mw = wall.m
+    start = cells.start
+    order = cells.order
+    reach = cells.reach
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nf = xf.shape[0]
@@ -155,7 +174,7 @@ def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, vbn, pw, mw, rho_b
                     d0, d1, d2, r2 = separation(p0, p1, p2, xw, b, dim, periodic, period)  # r_i - r_b
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
-                    f = gradient_scale * kernel_gradient_factor(prm.kernel, np.sqrt(r2) * inv_h)  # grad_i W = f r_ib
+                    f = gradient_factor(prm.kernel, gradient_scale, np.sqrt(r2) * inv_h)  # grad_i W = f r_ib
                     mb = mw[b]
                     n0, n1, n2 = point_of(nw, b, dim)
                     ndotgrad = (n0 * d0 + n1 * d1 + n2 * d2) * f
@@ -163,15 +182,15 @@ def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, vbn, pw, mw, rho_b
                     u0 = vi0 - w0
                     u1 = vi1 - w1
                     u2 = vi2 - w2
-                    if continuity == 0:
+                    if continuity_mode == 0:
                         vn = vi0 * n0 + vi1 * n1 + vi2 * n2 - vbn[b]
                         # eq. 21: only the normal relative motion, m_b (v_ib . n_b)(n_b . grad W)
-                        dr += mb * vn * ndotgrad
-                    elif continuity == 1:
+                        dr += continuity(mb, vn, ndotgrad)
+                    elif continuity_mode == 1:
                         vn = u0 * n0 + u1 * n1 + u2 * n2
                         uu = u0 * u0 + u1 * u1 + u2 * u2
                         if vn * vn > 1e-18 * uu:
-                            dr += mb * (u0 * d0 + u1 * d1 + u2 * d2) * f
+                            dr += continuity(mb, u0 * d0 + u1 * d1 + u2 * d2, f)
                     psum = pi + pw[b]
                     if psum > 0.0:
                         # eq. 22: normal, repulsive only
@@ -180,8 +199,8 @@ def liu2015_wall_forces(layout, xf, vf, rhof, pf, xw, nw, vb, vbn, pw, mw, rho_b
                         a1 += s * n1
                         a2 += s * n2
                     if wall_nu > 0.0:
-                        # eq. 9 laminar term with mu_b = mu_i = rho nu: m_b (mu_i + mu_b)/(rho_i rho_b) v_ib F r^2/(r^2+eta^2)
-                        lam = mb * wall_nu * (rhoi + rho_b) / (rhoi * rho_b) * f * r2 / (r2 + eta2)
+                        # eq. 9 laminar term with mu_b = mu_i = rho nu and rho_b = rho0
+                        lam = laminar_viscosity(mb, wall_nu, rhoi, rho_b, f, r2, eta2)
                         a0 += lam * u0
                         a1 += lam * u1
                         a2 += lam * u2
@@ -224,6 +243,20 @@ class Liu2015Wall(WallModel):
 
     name = "liu2015"
 
+    #: the dummies' masses count in a summation-density fluid
+    joins_summation_density = True
+
+    @property
+    def fluid_terms(self):
+        """Continuity (eq. 21, its own normal form) unless off, pressure (eq. 22, its own normal,
+        repulsive form) and, with no slip, the laminar term of eq. 9 with the wall's nu."""
+        terms = {"pressure"}
+        if self.continuity != "off":
+            terms.add("continuity")
+        if self.slip == "noslip":
+            terms.add("laminar_viscosity")
+        return frozenset(terms)
+
     def __init__(self, *, slip="free", nu=None, continuity="normal", sound_speed_term=True):
         if slip not in SLIP_MODES:
             raise ParameterError(f"slip must be one of {', '.join(SLIP_MODES)}; got {slip!r}")
@@ -236,6 +269,11 @@ class Liu2015Wall(WallModel):
         self.name = "liu2015" if slip == "free" else "liu2015-noslip"
         self._wall_nu = 0.0
         self._rho_b = 1000.0
+
+    def check(self, fluid, physics):
+        """No slip needs a viscosity (given, or the fluid's)."""
+        if self.slip == "noslip":
+            noslip_viscosity(self.nu, physics)
 
     def prepare(self, wall, fluid, physics):
         pa = wall.particles
@@ -253,14 +291,7 @@ class Liu2015Wall(WallModel):
         pa["vn_dummy"] = np.zeros(n)
         self._wall_nu = 0.0
         if self.slip == "noslip":
-            if self.nu is not None:
-                self._wall_nu = self.nu
-            elif physics.nu > 0.0:
-                self._wall_nu = physics.nu
-            else:
-                self._wall_nu = physics.alpha * physics.h * physics.c0 / (2 * physics.dim + 4)
-            if self._wall_nu <= 0.0:
-                raise ParameterError("slip='noslip' needs a viscosity: give nu or use a fluid with viscosity")
+            self._wall_nu = noslip_viscosity(self.nu, physics)
 
     def _prm(self, physics):
         return physics if self.sound_speed_term else physics._replace(c0=0.0)
@@ -276,12 +307,9 @@ class Liu2015Wall(WallModel):
                            pa["v_dummy"], pa["vn_dummy"])
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        g = ctx.grid
         pa = wall.particles
-        fp = fluid.particles
-        liu2015_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["p"], pa["x"], pa["normal"], pa["v_dummy"],
-                            pa["vn_dummy"], pa["p"], pa["m"], self._rho_b, wall.cells.start, wall.cells.order,
-                            wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, g.period, ctx.physics,
+        liu2015_wall_forces(fluid_view(fluid.particles), wall_view(pa, v="v_dummy"), pa["vn_dummy"], self._rho_b,
+                            cell_view(ctx.grid, wall.cells, reach=True), ctx.physics,
                             CONTINUITY_MODES.index(self.continuity), self._wall_nu, dv, drho)
 
     def describe(self):

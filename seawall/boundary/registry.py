@@ -1,8 +1,14 @@
 """Command-line names of the wall models and how to build each from options.
 
-A factory takes the options given with ``--set KEY=VALUE`` that it knows
-(unknown keys are left for the case) and returns a WallModel.
+A factory is a function of keyword arguments only: the ``--set KEY=VALUE``
+options the model takes (values may arrive as strings from the command
+line). :func:`boundary_options` reads them from the factory's signature, so
+a case knows which ``--set`` keys belong to the wall model without a list
+kept by hand; a model class's own constructor keywords are
+:meth:`seawall.boundary.base.WallModel.options`.
 """
+
+import inspect
 
 from ..errors import ParameterError
 from .dbc import DynamicBoundary, ImprovedDynamicBoundary
@@ -12,51 +18,53 @@ from .interpolation import MLS, SFDI, ImprovedShepard, Normalised
 
 
 def _dummy(density, default_slip="free"):
-    def factory(options):
-        slip = options.pop("slip", default_slip)
-        nu = options.pop("wall_nu", None)
-        clip = options.pop("clip_negative", None)
-        clip = None if clip is None else _flag(clip)
-        return DummyParticles(density=density, slip=slip, nu=None if nu is None else _number("wall_nu", nu),
-                              clip_negative_pressure=clip)
+    def factory(*, slip=default_slip, wall_nu=None, clip_negative=None):
+        return DummyParticles(density=density, slip=slip, nu=None if wall_nu is None else _number("wall_nu", wall_nu),
+                              clip_negative_pressure=None if clip_negative is None else _flag(clip_negative))
     return factory
 
 
 def _ghost(make):
-    """Factory of a ghost-particle wall (seed 001) with interpolation ``make(options)``; ``slip=free|noslip``."""
-    def factory(options):
-        slip = str(options.pop("slip", "free"))
-        return GhostParticles(make(options), slip=slip)
+    """Factory of a ghost-particle wall (seed 001) with interpolation ``make(**options)``; ``slip=free|noslip``.
+
+    The factory takes ``slip`` and the keywords of ``make``.
+    """
+    def factory(*, slip="free", **options):
+        return GhostParticles(make(**options), slip=str(slip))
+    factory.__signature__ = inspect.Signature(
+        [inspect.Parameter("slip", inspect.Parameter.KEYWORD_ONLY, default="free")]
+        + [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in inspect.signature(make).parameters.values()])
     return factory
 
 
-def _shepard(options):
-    return ImprovedShepard(mu=_number("shepard_mu", options.pop("shepard_mu", 4.0)),
-                           lam=_number("shepard_lambda", options.pop("shepard_lambda", 2.0)))
+def _shepard(shepard_mu=4.0, shepard_lambda=2.0):
+    return ImprovedShepard(mu=_number("shepard_mu", shepard_mu), lam=_number("shepard_lambda", shepard_lambda))
 
 
-def _monaghan_kajtar(options):
+def _sfdi(sfdi_diagonal=False):
+    return SFDI(diagonal=_flag(sfdi_diagonal))
+
+
+def _monaghan_kajtar(*, K=None, beta=3.0, alpha_wall=0.0):
     from .repulsive import MonaghanKajtar
 
-    K = options.pop("K", None)
-    return MonaghanKajtar(K=None if K is None else _number("K", K), beta=_number("beta", options.pop("beta", 3.0)),
-                          alpha_wall=_number("alpha_wall", options.pop("alpha_wall", 0.0)))
+    return MonaghanKajtar(K=None if K is None else _number("K", K), beta=_number("beta", beta),
+                          alpha_wall=_number("alpha_wall", alpha_wall))
 
 
 def _liu2015(default_slip="free"):
-    def factory(options):
+    def factory(*, slip=default_slip, wall_nu=None, continuity="normal"):
         from .liu2015 import Liu2015Wall
 
-        nu = options.pop("wall_nu", None)
-        return Liu2015Wall(slip=str(options.pop("slip", default_slip)), nu=None if nu is None else _number("wall_nu", nu),
-                           continuity=str(options.pop("continuity", "normal")))
+        return Liu2015Wall(slip=str(slip), nu=None if wall_nu is None else _number("wall_nu", wall_nu),
+                           continuity=str(continuity))
     return factory
 
 
-def _liu2012(options):
+def _liu2012(*, beta=2.0):
     from .liu2012 import Liu2012Force
 
-    return Liu2012Force(beta=_number("beta", options.pop("beta", 2.0)))
+    return Liu2012Force(beta=_number("beta", beta))
 
 
 def _number(name, value):
@@ -82,18 +90,18 @@ def _flag(value):
 
 
 def _dynamic(cls):
-    def factory(options):
+    def factory(*, order=None, rectangular=None, correction=None, wall_density=None, alpha_wall=None):
         kwargs = {}
-        if "order" in options:
-            kwargs["order"] = options.pop("order")
-        if "rectangular" in options:
-            kwargs["rectangular"] = _flag(options.pop("rectangular"))
-        if "correction" in options:
-            kwargs["correction"] = _flag(options.pop("correction"))
-        if "wall_density" in options:
-            kwargs["wall_density"] = str(options.pop("wall_density")).strip()
-        if "alpha_wall" in options:
-            kwargs["alpha_wall"] = _number("alpha_wall", options.pop("alpha_wall"))
+        if order is not None:
+            kwargs["order"] = order
+        if rectangular is not None:
+            kwargs["rectangular"] = _flag(rectangular)
+        if correction is not None:
+            kwargs["correction"] = _flag(correction)
+        if wall_density is not None:
+            kwargs["wall_density"] = str(wall_density).strip()
+        if alpha_wall is not None:
+            kwargs["alpha_wall"] = _number("alpha_wall", alpha_wall)
         return cls(**kwargs)
     return factory
 
@@ -106,13 +114,13 @@ BOUNDARIES = {
     "continuity": (_dummy("continuity"), "dummy particles, wall density by the continuity equation, EOS pressure"),
     "zeroing": (_dummy("zeroing"), "dummy particles at reference density and pressure (pressure zeroing)"),
     "mirroring": (_dummy("mirroring"), "dummy particles mirroring the fluid particle's pressure (pressure mirroring)"),
-    "ghost-mls1": (_ghost(lambda o: MLS(1)),
+    "ghost-mls1": (_ghost(lambda: MLS(1)),
                    "fixed ghost particles, MLS linear interpolation at mirror points (seed 001); slip=free|noslip"),
-    "ghost-mls2": (_ghost(lambda o: MLS(2)),
+    "ghost-mls2": (_ghost(lambda: MLS(2)),
                    "fixed ghost particles, MLS quadratic interpolation at mirror points (seed 001); slip=free|noslip"),
-    "ghost-sfdi": (_ghost(lambda o: SFDI(diagonal=_flag(o.pop("sfdi_diagonal", False)))),
+    "ghost-sfdi": (_ghost(_sfdi),
                    "fixed ghost particles, SFDI interpolation (Ma 2008, seed 001); slip=free|noslip, sfdi_diagonal"),
-    "ghost-normalized": (_ghost(lambda o: Normalised()),
+    "ghost-normalized": (_ghost(lambda: Normalised()),
                          "fixed ghost particles, normalised (Shepard kernel) interpolation (seed 001); slip=free|noslip"),
     "ghost-shepard": (_ghost(_shepard),
                       "fixed ghost particles, improved Shepard interpolation (seed 001); slip, shepard_mu, shepard_lambda"),
@@ -130,11 +138,19 @@ BOUNDARIES = {
 }
 
 
-def boundary_by_name(name, options=None):
-    """Build the wall model called ``name``; ``options`` (dict) is consumed for known keys."""
-    options = {} if options is None else options
+def boundary_options(name):
+    """The ``--set`` keys wall model ``name`` takes (its factory's keyword arguments)."""
     try:
         factory, _ = BOUNDARIES[name]
     except KeyError:
         raise ParameterError(f"unknown boundary {name!r}; available: {', '.join(BOUNDARIES)}") from None
-    return factory(options)
+    return tuple(p.name for p in inspect.signature(factory).parameters.values()
+                 if p.kind == inspect.Parameter.KEYWORD_ONLY)
+
+
+def boundary_by_name(name, options=None):
+    """Build the wall model called ``name``; ``options`` (dict) is consumed for the keys it takes."""
+    options = {} if options is None else options
+    known = boundary_options(name)
+    factory, _ = BOUNDARIES[name]
+    return factory(**{key: options.pop(key) for key in known if key in options})

@@ -25,12 +25,15 @@ K scales the force; Monaghan & Kajtar use g D for a tank of depth D, which is
 the default here (D = the fluid's initial vertical extent).
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError, require_nonnegative, require_positive
-from ..kernels import kernel_gradient_factor
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
+from ..pairs import gradient_factor, monaghan_viscosity, pressure_acceleration, viscosity_acts
+from ..views import cell_view, fluid_view, wall_view
 from .base import WallModel
 
 
@@ -50,10 +53,42 @@ def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b):
     return K / beta ** (dim - 1) / (r * (rr - d)) * wendland_c4_1d(r / h) * 2.0 * m_b / (m_a + m_b)
 
 
+class RepulsiveParams(NamedTuple):
+    """The compiled parameters of a Monaghan-Kajtar wall."""
+
+    K: float            # force scale [m^2/s^2]
+    beta: float         # fluid spacing / wall spacing
+    spacing: float      # wall spacing d = dx / beta
+    alpha_wall: float   # artificial viscosity of the fluid-wall pair (0 = free slip)
+
+
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def repulsive_wall_forces(layout, xf, vf, rhof, cf, mf, xw, vw, mw, start, order, reach, lo, inv_cell, ncell,
-                          period, prm, K, beta, spacing, alpha_wall, dv):
-    """Add the Monaghan-Kajtar wall acceleration (and optional viscosity) to the fluid's dv."""
+def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
+    """Add the Monaghan-Kajtar wall acceleration (and optional viscosity) to the fluid's dv.
+
+    The viscosity is the pair's Monaghan term with rho_b = rho_a and c_ab = c_a
+    (:func:`seawall.pairs.monaghan_viscosity`, seed 000 eq. 6), alpha = ``rep.alpha_wall``.
+    """
+    layout = cells.layout
+    xf = fluid.x
+    vf = fluid.v
+    rhof = fluid.rho
+    cf = fluid.c
+    mf = fluid.m
+    xw = wall.x
+    vw = wall.v
+    mw = wall.m
+    start = cells.start
+    order = cells.order
+    reach = cells.reach
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
+    K = rep.K
+    beta = rep.beta
+    spacing = rep.spacing
+    alpha_wall = rep.alpha_wall
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nrows = 25 if dim == 3 else 5
@@ -80,10 +115,11 @@ def repulsive_wall_forces(layout, xf, vf, rhof, cf, mf, xw, vw, mw, start, order
                     if alpha_wall > 0.0:
                         vb0, vb1, vb2 = point_of(vw, b, dim)
                         vr = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
-                        if vr < 0.0:
+                        if viscosity_acts(vr, terms.all_pairs):
                             mu = h * vr / (r2 + prm.eta2)
-                            pi_ab = -alpha_wall * cf[i] * mu / rhof[i]
-                            s -= mw[b] * pi_ab * gradient_scale * kernel_gradient_factor(prm.kernel, r * inv_h)
+                            pi_ab = monaghan_viscosity(alpha_wall, 0.0, mu, cf[i], rhof[i])
+                            s += pressure_acceleration(mw[b], pi_ab, gradient_factor(prm.kernel, gradient_scale,
+                                                                                     r * inv_h))
                     a0 += s * d0
                     a1 += s * d1
                     a2 += s * d2
@@ -117,13 +153,25 @@ class MonaghanKajtar(WallModel):
 
     name = "monaghan-kajtar"
     #: the cases build a single surface row at dx / beta for this model
-    wall_layout = "surface"
+    layout = "surface"
+    #: the row's masses rho0 d^n count in a summation-density fluid (as they always did)
+    joins_summation_density = True
+
+    @property
+    def fluid_terms(self):
+        """Only the pair's artificial viscosity (with alpha_wall), when alpha_wall > 0."""
+        return frozenset({"artificial_viscosity"}) if self.alpha_wall > 0.0 else frozenset()
 
     def __init__(self, *, K=None, beta=3.0, alpha_wall=0.0):
         self.K = None if K is None else require_positive("K", K)
         self.beta = require_positive("beta", beta)
         self.alpha_wall = require_nonnegative("alpha_wall", alpha_wall)
         self._K = 0.0
+
+    def check(self, fluid, physics):
+        """Without gravity K has no default (g D)."""
+        if self.K is None and physics.gx == 0.0 and physics.gy == 0.0 and physics.gz == 0.0:
+            raise ParameterError("monaghan-kajtar: without gravity give K explicitly (--set K=...)")
 
     def prepare(self, wall, fluid, physics):
         pa = wall.particles
@@ -147,13 +195,10 @@ class MonaghanKajtar(WallModel):
         """Repulsive particles carry no state to update."""
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        g = ctx.grid
-        pa = wall.particles
-        fp = fluid.particles
-        repulsive_wall_forces(g.layout, fp["x"], fp["v"], fp["rho"], fp["c"], fp["m"], pa["x"], pa["v"], pa["m"],
-                              wall.cells.start, wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell,
-                              g.ncell, g.period, ctx.physics, self._K, self.beta, wall.spacing,
-                              self.alpha_wall, dv)
+        rep = RepulsiveParams(self._K, self.beta, wall.spacing, self.alpha_wall)
+        repulsive_wall_forces(fluid_view(fluid.particles), wall_view(wall.particles),
+                              cell_view(ctx.grid, wall.cells, reach=True), ctx.physics, rep,
+                              self.cross_terms(ctx.physics), dv)
 
     def describe(self):
         return self.name

@@ -8,7 +8,7 @@ ready :class:`~seawall.Simulation` carrying its probes and metadata.
 import math
 from dataclasses import dataclass, field
 
-from ..boundary.registry import boundary_by_name
+from ..boundary.registry import boundary_by_name, boundary_options
 from ..errors import ParameterError
 
 GRAVITY = 9.81
@@ -74,13 +74,16 @@ class Case:
         the case's ``default_boundary``)."""
         if boundary is None:
             boundary = self.default_boundary
-        boundary_options = {k: overrides.pop(k) for k in list(overrides) if k in BOUNDARY_OPTION_KEYS}
-        given_options = dict(sorted(boundary_options.items()))
-        adhesion = boundary_options.pop("adhesion_coefficient", None)
+        # a --set key belongs to the wall model if its registry factory takes it (boundary_options)
+        model_keys = boundary_options(boundary) if isinstance(boundary, str) else ()
+        model_options = {k: overrides.pop(k) for k in list(overrides) if k in model_keys}
+        adhesion = overrides.pop(ADHESION_KEY, None)
+        given_options = dict(sorted({**model_options, **({ADHESION_KEY: adhesion} if adhesion is not None else {})}
+                                    .items()))
         params = self.resolve(overrides)
 
         def wall_model():
-            opts = dict(boundary_options)
+            opts = dict(model_options)
             model = boundary_by_name(boundary, opts) if isinstance(boundary, str) else boundary()
             if opts:
                 raise ParameterError(f"boundary {boundary!r} does not take option {sorted(opts)[0]!r}")
@@ -129,11 +132,8 @@ def _check_ranges(case_name, params):
                              f"0 < rho_min < rho_max, got {lo!r} and {hi!r}")
 
 
-#: keys of --set that belong to the wall model rather than the case
-BOUNDARY_OPTION_KEYS = {"K", "beta", "wall_nu", "clip_negative", "order", "rectangular", "correction", "slip",
-                        "shepard_mu", "shepard_lambda", "sfdi_diagonal",
-                        "alpha_wall", "wall_density", "adhesion_coefficient",
-                        "continuity"}
+#: the --set key of the walls' adhesion (a WallSystem option, any model)
+ADHESION_KEY = "adhesion_coefficient"
 
 
 def require_noslip(model, case, hint=""):
@@ -147,12 +147,12 @@ def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):
     """The tank's wall particles in the layout the wall model needs.
 
     Layered walls (dummy, ghost, DBC) continue the fluid lattice in
-    ceil(support / dx) layers; repulsive walls (``wall_layout = "surface"``)
+    ceil(support / dx) layers; repulsive walls (``layout = "surface"``)
     are one row on the surface at spacing dx / beta.
     """
     from .. import shapes
 
-    if getattr(model, "wall_layout", "layers") == "surface":
+    if model.layout == "surface":
         return shapes.tank_surface(lo, hi, dx / model.beta, open_top=open_top)
     return shapes.tank(lo, hi, dx, layers=wall_layers(kernel, h, dx), open_top=open_top)
 

@@ -92,7 +92,7 @@ def build_cavity(params, wall_model, threads):
     walls = shapes.tank((0.0, 0.0), (side, side), dx, layers=layers, open_top=False)
     is_lid = walls.positions[:, 1] > side   # the whole top row of wall particles, corner columns included
     model = wall_model()
-    if getattr(model, "wall_layout", "layers") != "layers":
+    if model.layout != "layers":
         raise ParameterError("the cavity needs a layered wall model (dummy, ghost or DBC family)")
     if getattr(model, "slip", "noslip") != "noslip":
         raise ParameterError("the cavity needs a no-slip wall: use e.g. --boundary adami-noslip or liu2015-noslip "

@@ -134,7 +134,7 @@ def build_plates(params, wall_model, threads):
     preset = _preset(params, c0, params["h_factor"])
     block = shapes.rectangle((0.0, gap), (width, gap + width), dx)
     fluid = preset.fluid(block, rho0=RHO0, velocity=(0.0, -speed))
-    layout = getattr(model, "wall_layout", "layers")
+    layout = model.layout
     beta = getattr(model, "beta", 1.0)
     layers = int(params["layers"])
     left = _plate(0.0, 0.0, length, dx, layers, +1, layout, beta)
@@ -226,7 +226,7 @@ def build_dam_break_etsin(params, wall_model, threads):
     tank = tank_wall(model, (0.0, 0.0), (length, height), dx, preset.kernel, h)
     systems = [fluid, WallSystem(tank, model=model, name="tank")]
     gate_model = wall_model()
-    gate = _gate(width, height, dx, wall_layers(preset.kernel, h, dx), getattr(gate_model, "wall_layout", "layers"),
+    gate = _gate(width, height, dx, wall_layers(preset.kernel, h, dx), gate_model.layout,
                  getattr(gate_model, "beta", 1.0), gate_speed)
     if gate is not None:
         systems.append(WallSystem(gate[0], model=gate_model, name="gate", movement=gate[1]))

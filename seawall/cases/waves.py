@@ -49,7 +49,7 @@ def _floats(text, name):
 
 
 def _layered(model, case):
-    if getattr(model, "wall_layout", "layers") == "surface":
+    if model.layout == "surface":
         raise ParameterError(f"case {case!r} builds layered polyline walls; the surface-particle model "
                              f"{model.name!r} is not supported here")
 

@@ -31,6 +31,9 @@ from numba import njit, prange
 
 from ..eos import eos_pressure, eos_sound_speed
 from ..kernels import kernel_gradient_factor, kernel_shape
+from ..pairs import (continuity, density_diffusion, gradient_factor, kernel_value, laminar_viscosity,
+                     monaghan_viscosity, pressure_acceleration, tensile_coefficient, tensile_term, viscosity_acts,
+                     xsph_weight)
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
@@ -164,14 +167,36 @@ def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start, order, lo, inv_cell, ncell, period, prm,
-                dv, drho, xsph, mu_max, grad_rho_next):
+def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
 
-    Overwrites ``dv``, ``drho``, ``xsph``; ``mu_max[i]`` receives max_j |mu_ij|
-    for the Monaghan-Kos time-step criterion (seed 000, eq. 11). Gravity is
-    added here too, so wall models only add their own terms afterwards.
+    ``fluid`` is a :class:`~seawall.views.FluidView`, ``cells`` the fluid's
+    :class:`~seawall.views.CellView`, ``rates`` a :class:`~seawall.views.Rates`.
+    Overwrites ``rates.dv``, ``rates.drho``, ``rates.xsph``; ``rates.mu_max[i]``
+    receives max_j |mu_ij| for the Monaghan-Kos time-step criterion (seed 000,
+    eq. 11). Gravity is added here too, so wall models only add their own terms
+    afterwards. The pair terms are those of :mod:`seawall.pairs`;
+    ``prm.alpha_all_pairs`` applies the artificial viscosity to receding pairs too.
     """
+    layout = cells.layout
+    x = fluid.x
+    v = fluid.v
+    rho = fluid.rho
+    p = fluid.p
+    c = fluid.c
+    m = fluid.m
+    p_over_rho2 = fluid.p_over_rho2
+    volume = fluid.volume
+    start = cells.start
+    order = cells.order
+    lo = cells.lo
+    inv_cell = cells.inv_cell
+    ncell = cells.ncell
+    period = cells.period
+    dv = rates.dv
+    drho = rates.drho
+    xsph = rates.xsph
+    mu_max = rates.mu_max
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     n = x.shape[0]
@@ -199,7 +224,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
         ci = c[i]
         pr_i = p_over_rho2[i]
         if tensile:
-            ri = (0.01 if pi > 0.0 else -0.2) * pi / (rhoi * rhoi)
+            ri = tensile_coefficient(pi, rhoi)
         else:
             ri = 0.0
         if renorm:
@@ -225,7 +250,7 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                         continue
                     r = np.sqrt(r2)
                     qq = r * inv_h
-                    f = gradient_scale * kernel_gradient_factor(prm.kernel, qq)  # grad_i W = f r_ij
+                    f = gradient_factor(prm.kernel, gradient_scale, qq)  # grad_i W = f r_ij
                     mj = m[j]
                     rhoj = rho[j]
                     vj0, vj1, vj2 = point_of(v, j, dim)
@@ -233,16 +258,11 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                     u1 = vi1 - vj1
                     u2 = vi2 - vj2
                     vr = u0 * d0 + u1 * d1 + u2 * d2
-                    # continuity (eq. 8): m_j v_ij . grad W
-                    dr += mj * vr * f
-                    # pressure (eq. 5)
+                    dr += continuity(mj, vr, f)
                     coef = pr_i + p_over_rho2[j]
                     if tensile:
-                        pj = p[j]
-                        rj = (0.01 if pj > 0.0 else -0.2) * pj / (rhoj * rhoj)
-                        wr = prm.sigma * kernel_shape(prm.kernel, qq) * prm.inv_w_dx
-                        wr2 = wr * wr
-                        coef += (ri + rj) * wr2 * wr2
+                        rj = tensile_coefficient(p[j], rhoj)
+                        coef += tensile_term(ri, rj, kernel_value(prm.kernel, prm.sigma, qq) * prm.inv_w_dx)
                     # max_j |vr|/(r^2 + eta^2) for the time step, compared as fractions
                     # (a/b > c/d <=> a d > c b) so that no pair pays a division for it
                     den = r2 + eta2
@@ -250,26 +270,23 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                     if avr * mu_den > mu_num * den:
                         mu_num = avr
                         mu_den = den
-                    if alpha > 0.0 and (vr < 0.0 or all_pairs):
-                        mu = h * vr / den
-                        rho_ab = 0.5 * (rhoi + rhoj)
-                        c_ab = 0.5 * (ci + c[j])
-                        coef += (-alpha * c_ab * mu + beta * mu * mu) / rho_ab
-                    s = -mj * coef * f
+                    if alpha > 0.0 and viscosity_acts(vr, all_pairs):
+                        coef += monaghan_viscosity(alpha, beta, h * vr / den, 0.5 * (ci + c[j]), 0.5 * (rhoi + rhoj))
+                    s = pressure_acceleration(mj, coef, f)
                     a0 += s * d0
                     a1 += s * d1
                     a2 += s * d2
                     if nu > 0.0:
-                        lam = mj * nu * (rhoi + rhoj) / (rhoi * rhoj) * f * r2 / (r2 + eta2)
+                        lam = laminar_viscosity(mj, nu, rhoi, rhoj, f, r2, eta2)
                         a0 += lam * u0
                         a1 += lam * u1
                         a2 += lam * u2
                     if diffusion != DIFFUSION_NONE:
-                        # psi_ij . grad W with psi_ij = 2 (rho_j - rho_i) r_ji/r^2 - (gL_i + gL_j)
-                        psi_dot = -2.0 * (rhoj - rhoi) * f
                         if renorm:
                             gj0, gj1, gj2 = point_of(grad_rho, j, dim)
-                            psi_dot -= ((gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2) * f
+                            g_dot_r = (gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2
+                        else:
+                            g_dot_r = 0.0
                         if lagged:
                             # this state's <grad rho>^L, used by the next evaluation (seed 003 eq. 14-15)
                             vol = volume[j]
@@ -284,9 +301,9 @@ def fluid_rates(layout, x, v, rho, p, c, m, p_over_rho2, volume, grad_rho, start
                             g0 += t * d0
                             g1 += t * d1
                             g2 += t * d2
-                        dr += diff_coef * volume[j] * psi_dot
+                        dr += density_diffusion(diff_coef, volume[j], rhoi, rhoj, f, renorm, g_dot_r)
                     if use_xsph:
-                        wx = prm.sigma * kernel_shape(prm.kernel, qq) * mj / (0.5 * (rhoi + rhoj))
+                        wx = xsph_weight(kernel_value(prm.kernel, prm.sigma, qq), mj, rhoi, rhoj)
                         x0 -= wx * u0
                         x1 -= wx * u1
                         x2 -= wx * u2

@@ -1,0 +1,93 @@
+"""The wall-model contract (seawall/boundary/base.py): every registered model declares it, and the
+declarations decide behaviour where they say they do."""
+
+import numpy as np
+import pytest
+
+from seawall.boundary.base import WallModel, check_contract
+from seawall.boundary.dbc import DynamicBoundary
+from seawall.boundary.registry import BOUNDARIES, boundary_by_name, boundary_options
+from seawall.cases import CASES
+from seawall.errors import ParameterError
+from seawall.pairs import FLUID_TERMS
+
+
+@pytest.mark.parametrize("name", sorted(BOUNDARIES))
+def test_every_registered_model_declares_the_contract(name):
+    model = boundary_by_name(name)
+    check_contract(model)
+    assert model.layout in ("layers", "surface") and model.wall_layout == model.layout
+    assert set(model.fluid_terms) <= set(FLUID_TERMS)
+    assert isinstance(model.joins_summation_density, bool)
+    assert all(isinstance(a, str) for a in model.integrated_arrays)
+    assert all(isinstance(o, str) for o in type(model).options())
+    # the registry's --set keys are consumed by the factory, none collides with a case parameter
+    keys = boundary_options(name)
+    for case in CASES.values():
+        assert not set(keys) & set(case.parameters), (name, case.name)
+
+
+def test_surface_models_and_declared_terms():
+    assert boundary_by_name("monaghan-kajtar").layout == "surface"
+    assert boundary_by_name("liu2012").layout == "surface"
+    assert "xsph" in boundary_by_name("dbc").fluid_terms
+    assert "xsph" not in boundary_by_name("adami").fluid_terms
+    assert "laminar_viscosity" in boundary_by_name("adami-noslip").fluid_terms
+    assert "laminar_viscosity" not in boundary_by_name("adami").fluid_terms
+    assert boundary_by_name("continuity").integrated_arrays == ("rho",)
+
+
+def test_legacy_wall_layout_attribute_still_sets_the_layout():
+    class Old(WallModel):
+        wall_layout = "surface"
+
+    assert Old().layout == "surface"
+
+
+def test_set_keys_go_to_the_model_that_takes_them():
+    sim = CASES["hydrostatic"].build(boundary="dbc", dx=0.05, alpha_wall="0.1", threads=1)
+    assert sim.walls[0].model.alpha_wall == 0.1
+    with pytest.raises(ParameterError, match="alpha_wall"):
+        CASES["hydrostatic"].build(boundary="adami", dx=0.05, alpha_wall="0.1", threads=1)
+
+
+def test_unknown_fluid_term_is_refused():
+    class Odd(WallModel):
+        name = "odd"
+        fluid_terms = frozenset({"surface_tension"})
+
+    with pytest.raises(ParameterError, match="surface_tension"):
+        check_contract(Odd())
+
+
+def test_no_slip_without_viscosity_is_refused_by_check():
+    sim = CASES["hydrostatic"].build(boundary="adami", dx=0.05, threads=1)
+    fluid = sim.fluid
+    physics = sim.physics._replace(alpha=0.0, nu=0.0)
+    with pytest.raises(ParameterError, match="viscosity"):
+        boundary_by_name("adami-noslip").check(fluid, physics)
+
+
+class _DbcWithoutXsph(DynamicBoundary):
+    fluid_terms = DynamicBoundary.fluid_terms - {"xsph"}
+
+
+@pytest.mark.parametrize("model_class, acts", [(DynamicBoundary, True), (_DbcWithoutXsph, False)])
+def test_declared_terms_decide_whether_xsph_crosses_the_wall(model_class, acts):
+    sim = CASES["drop-impact"].build(boundary=lambda: model_class(), threads=1)
+    assert sim.physics.xsph > 0.0
+    fp = sim.fluid.particles
+    wall = sim.walls[0]
+    # lower the drop to one spacing above the wall row, so that it is within the wall's reach
+    fp["x"][:, -1] -= fp["x"][:, -1].min() - wall.x[:, -1].max() - sim.fluid.spacing
+    sim.run_steps(0)  # the first evaluation: equation of state, fluid rates
+    xsph_before = fp["xsph"].copy()
+    dv = np.zeros_like(fp["dv"])
+    drho = np.zeros_like(fp["drho"])
+    from seawall.boundary.base import EvaluationContext
+
+    ctx = EvaluationContext(physics=sim.physics, grid=sim.grid, fluid_cells=sim.grid.build(fp["x"]),
+                            time=sim.time, dx=sim.fluid.spacing)
+    wall.model.interact(sim.fluid, wall, ctx, dv, drho)
+    assert np.any(drho != 0.0)  # the drop touches the wall
+    assert np.any(fp["xsph"] != xsph_before) == acts
