@@ -168,9 +168,17 @@ def deviations(stored, new):
     """{key: scaled deviation} of ``new`` against ``stored``; inf for a key missing, added or of another shape.
 
     Float arrays: max |new - stored| / max |stored| (per column for 2-D arrays; a zero
-    array is scaled by 1). Exact keys (counts, geometry, ids): 0 when equal, inf otherwise.
+    array is scaled by 1). The components of a wall force (``probe:force_<wall>_x`` ...) are
+    scaled together by the force's largest component: in a symmetric tank the sideways force
+    is round-off about zero, and scaled by itself any reordering of a sum would look like an
+    O(1) change. Exact keys (counts, geometry, ids): 0 when equal, inf otherwise.
     """
     out = {}
+    force_scale = {}
+    for key in stored:
+        if key.startswith("probe:force_") and key[-2:] in ("_x", "_y", "_z"):
+            group = key[:-2]
+            force_scale[group] = max(force_scale.get(group, 0.0), float(np.nanmax(np.abs(stored[key]), initial=0.0)))
     for key in sorted(set(stored) | set(new)):
         if key not in stored or key not in new:
             out[key] = np.inf
@@ -191,6 +199,8 @@ def deviations(stored, new):
             a = np.where(nan_a, 0.0, a)
             b = np.where(nan_b, 0.0, b)
             scale = np.max(np.abs(a), axis=0)
+            if key[:-2] in force_scale:
+                scale = force_scale[key[:-2]]
             scale = np.where(scale > 0.0, scale, 1.0)
             out[key] = float(np.max(np.abs(b - a) / scale))
     return out
