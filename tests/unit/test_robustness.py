@@ -313,7 +313,7 @@ def test_bad_run_input_is_one_line(tmp_path, capsys, args, word):
     (["drop-impact", "--set", "layers=0"], "layers"),
     (["drop-impact", "--set", "rho_min=3"], "rho_min"),
     (["dem-box", "--set", "seed=-1"], "seed"),
-    (["poiseuille"], "no-slip"),
+    (["poiseuille", "--boundary", "adami"], "no-slip"),   # free slip named explicitly
     (["couette", "--boundary", "ghost-mls1"], "no-slip"),
     (["taylor-green", "--boundary", "../../x"], "unknown boundary"),
     (["s-cavity", "--set", "nu=-1"], "nu"),
