@@ -1,13 +1,13 @@
-"""Cost per step of the five ghost-wall interpolations against particle count (seed 001 Fig. 4a).
+"""Cost per step of the five ghost-wall interpolations against particle count ([Huang2019] Fig. 4a).
 
-For each spacing the hydrostatic tank (seed 001 sec. 4.1, marrone2011
+For each spacing the hydrostatic tank ([Huang2019] sec. 4.1, marrone2011
 scheme) is built once per method; the script times
 
 * ``step``   -- one full time step (2 rate evaluations of the symplectic scheme),
 * ``ghost``  -- one ghost update alone (interpolation at every mirror point + laws of mirror),
 
 and prints particle-steps per second and the cost ratios to the improved
-Shepard method. Seed 001 reports, for the whole step, Shepard faster by
+Shepard method. [Huang2019] reports, for the whole step, Shepard faster by
 about 1.5x than normalised, 2x than SFDI and 4-11x than MLS (linear-quadratic).
 
 Usage: python benchmarks/ghost_interpolation_cost.py [--dx 0.02 0.01 0.0071] [--steps 50] [--threads N]

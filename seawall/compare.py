@@ -21,7 +21,7 @@ Metrics, per model (a cell is "n/a" only where the case has nothing to measure):
 * ``pressure_noise`` -- mean over the wall probes of the RMS of (p - its running
   mean over 0.05 s), divided by rho0 g H (or by the largest |p| for cases
   without a hydrostatic scale): the high-frequency part of the wall pressure;
-* ``f_sym`` -- the final value of the case's ``f_sym`` probe (seed 000 eq. 29),
+* ``f_sym`` -- the final value of the case's ``f_sym`` probe ([Li2022] eq. 29),
   where the case is symmetric;
 * ``energy_drift`` -- relative change of the kinetic energy between the first
   and the last sample, for cases that conserve it (``particle-in-box``);

@@ -1,5 +1,5 @@
 """Discrete elements: discs (2D) and spheres (3D) with a normal spring-dashpot
-contact, and the DEM wall of seed 004 ("BoundaryDEMSystem(initial_condition,
+contact, and the DEM wall of [TrixiBoundary] ("BoundaryDEMSystem(initial_condition,
 normal_stiffness)").
 
 Contact law (linear spring-dashpot, Cundall & Strack 1979; the damping from
@@ -17,7 +17,7 @@ omega0 = sqrt(k / m*), and leaves with e times the approach speed (the force
 is not clipped at zero, which keeps this relation exact). A wall particle
 is a fixed particle of radius spacing / 2 and infinite mass (m* = m_i) whose
 stiffness is the wall's ``normal_stiffness``. No tangential force: the
-model of seed 004's DEM wall is normal only.
+model of [TrixiBoundary]'s DEM wall is normal only.
 
 Time integration: velocity Verlet with a fixed step of t_c / 50 for the
 stiffest, lightest contact (Luding 2008 recommends about t_c / 50). The
@@ -184,7 +184,7 @@ class DEMSystem:
 
 
 class DEMWall:
-    """Fixed wall particles acting on DEM elements (seed 004, ``BoundaryDEMSystem``).
+    """Fixed wall particles acting on DEM elements ([TrixiBoundary], ``BoundaryDEMSystem``).
 
     Parameters
     ----------

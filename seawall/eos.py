@@ -1,10 +1,10 @@
 """Equations of state p(rho) for weakly compressible SPH, with their inverses.
 
 * :class:`Tait` -- Tait/Cole: p = B [(rho/rho0)^gamma - 1] + p_b with
-  B = c0^2 rho0 / gamma (seed 000, eq. 9; Monaghan 1994). The optional
+  B = c0^2 rho0 / gamma ([Li2022], eq. 9; Monaghan 1994). The optional
   background pressure p_b is added to every particle (Marrone et al. 2011).
-* :class:`Linear` -- p = c0^2 (rho - rho0) + p_b (seed 001, sec. 2.1; it is
-  also the first-order Taylor expansion of Tait, seed 000 eq. 12).
+* :class:`Linear` -- p = c0^2 (rho - rho0) + p_b ([Huang2019], sec. 2.1; it is
+  also the first-order Taylor expansion of Tait, [Li2022] eq. 12).
 
 Compiled code calls :func:`eos_pressure`, :func:`eos_density` and
 :func:`eos_sound_speed` with an integer EOS id and scalars.
@@ -23,7 +23,7 @@ LINEAR = 1
 
 @njit(cache=True, inline="always")
 def eos_pressure(kind, rho, rho0, c0, gamma, p_background):
-    """Pressure from density (seed 000 eq. 9 for Tait, seed 001 for linear)."""
+    """Pressure from density ([Li2022] eq. 9 for Tait, [Huang2019] for linear)."""
     if kind == TAIT:
         b = c0 * c0 * rho0 / gamma
         return b * ((rho / rho0) ** gamma - 1.0) + p_background
@@ -85,14 +85,14 @@ class EquationOfState:
 
 
 class Tait(EquationOfState):
-    """Tait/Cole EOS, p = B[(rho/rho0)^gamma - 1] + p_b, B = c0^2 rho0/gamma (seed 000 eq. 9).
+    """Tait/Cole EOS, p = B[(rho/rho0)^gamma - 1] + p_b, B = c0^2 rho0/gamma ([Li2022] eq. 9).
 
     Parameters
     ----------
     c0 : float
         Reference speed of sound [m/s]; usually 10 x the largest expected flow speed.
     gamma : float
-        Exponent, 7 for water (Monaghan 1994; seed 000).
+        Exponent, 7 for water (Monaghan 1994; [Li2022]).
     background_pressure : float
         Constant added to every pressure [Pa], default 0.
     """
@@ -107,7 +107,7 @@ class Tait(EquationOfState):
 
 
 class Linear(EquationOfState):
-    """Linear EOS, p = c0^2 (rho - rho0) + p_b (seed 001, sec. 2.1)."""
+    """Linear EOS, p = c0^2 (rho - rho0) + p_b ([Huang2019], sec. 2.1)."""
 
     kind = LINEAR
 

@@ -6,13 +6,13 @@ checkpoint holds everything needed to continue a run bit for bit.
 
 Time-step rules (adaptive unless ``dt`` is given):
 
-* ``"monaghan-kos"`` (seed 000, eq. 11; Monaghan & Kos 1999):
+* ``"monaghan-kos"`` ([Li2022], eq. 11; Monaghan & Kos 1999):
   dt = CFL * min(dt_f, dt_cv), dt_f = min_a sqrt(h / |a_a|),
   dt_cv = min_a h / (c_a + max_b |mu_ab|); with laminar viscosity also
   dt <= 0.125 h^2 / nu (Morris et al. 1997). The extracted eq. 11 reads
   h / sqrt(|f_a|), which is not a time; sqrt(h / |f_a|) is, and is the
   criterion of Monaghan & Kos.
-* ``"liu2015"`` (seed 003, eq. 18-20): dt = min(0.4 dt_cv, 0.25 dt_f) with
+* ``"liu2015"`` ([Liu2015], eq. 18-20): dt = min(0.4 dt_cv, 0.25 dt_f) with
   dt_cv = min_i h / (c + 0.6 alpha c) and dt_f = min_i sqrt(h / |a_i|)
   (again the square root restores the dimension of time).
 """
@@ -167,7 +167,7 @@ class Symplectic(Integrator):
 
 
 class LeapFrog(Integrator):
-    """Kick-drift-kick leap-frog (seed 003, eq. 16-17).
+    """Kick-drift-kick leap-frog ([Liu2015], eq. 16-17).
 
     v_{n+1/2} = v_n + dt/2 a_n,  rho_{n+1/2} = rho_n + dt/2 D_n,
     x_{n+1} = x_n + dt (v_{n+1/2} + v_xsph),
@@ -186,9 +186,9 @@ class LeapFrog(Integrator):
 
 
 class PredictedLeapFrog(Integrator):
-    """Leap-frog with the rates evaluated at the predicted full-step state (seed 003 eq. 16-17).
+    """Leap-frog with the rates evaluated at the predicted full-step state ([Liu2015] eq. 16-17).
 
-    Seed 003 (after Liu & Liu 2003) staggers velocity and density half a step
+    [Liu2015] (after Liu & Liu 2003) staggers velocity and density half a step
     from the positions: phi_{n+1/2} = phi_{n-1/2} + dt dphi/dt(t_n), x_{n+1} = x_n
     + dt v_{n+1/2}, with the rates at t_n taken from the state predicted to t_n,
     phi_n = phi_{n-1/2} + dt/2 dphi/dt(t_{n-1}). Written from full steps:
@@ -199,7 +199,7 @@ class PredictedLeapFrog(Integrator):
 
     :class:`LeapFrog` evaluates the rates at (x_{n+1}, v_{n+1/2}, rho_{n+1/2})
     instead: density and velocity half a step behind the positions, which
-    lets the acoustic (density-pressure) oscillation grow; the seed-003 dam
+    lets the acoustic (density-pressure) oscillation grow; the [Liu2015] dam
     break at dx = 6 mm blows up within 0.03 s with it (docs/liu2015.md).
     """
 

@@ -8,12 +8,12 @@ function serves every kernel (the branch on the id is perfectly predicted).
 
 Kernels (support radius in units of h in brackets):
 
-* ``CubicSpline`` [2]  -- Monaghan & Lattanzio (1985); seed 000, eq. (3).
+* ``CubicSpline`` [2]  -- Monaghan & Lattanzio (1985); [Li2022], eq. (3).
 * ``QuinticSpline`` [3] -- Morris, Fox & Zhu (1997), eq. (12).
 * ``WendlandC2`` [2], ``WendlandC4`` [2] -- Wendland (1995), in the q in
   [0, 2] scaling of Dehnen & Aly (2012), Table 1.
 * ``Gaussian`` [3] -- truncated at 3h and renormalised so that it integrates
-  to one (seed 001, sec. 2.1, the last equation of the section).
+  to one ([Huang2019], sec. 2.1, the last equation of the section).
 """
 
 import math
@@ -216,7 +216,7 @@ class Kernel:
 
 
 class CubicSpline(Kernel):
-    """Cubic B-spline, support 2h (Monaghan & Lattanzio 1985; seed 000 eq. 3)."""
+    """Cubic B-spline, support 2h (Monaghan & Lattanzio 1985; [Li2022] eq. 3)."""
 
     kind = CUBIC_SPLINE
     support_radius = 2.0
@@ -248,7 +248,7 @@ class WendlandC4(Kernel):
 
 
 class Gaussian(Kernel):
-    """Gaussian truncated at 3h and renormalised to unit integral (seed 001, sec. 2.1)."""
+    """Gaussian truncated at 3h and renormalised to unit integral ([Huang2019], sec. 2.1)."""
 
     kind = GAUSSIAN
     support_radius = 3.0

@@ -1,6 +1,6 @@
 """Open boundaries: inflow and outflow zones with the method of characteristics.
 
-The user-facing design follows seed 004 ("OpenBoundarySPHSystem", "InFlow",
+The user-facing design follows [TrixiBoundary] ("OpenBoundarySPHSystem", "InFlow",
 "OutFlow", "BoundaryModelLastiwka"):
 
 * a zone is a plane (a segment in 2D given by two points A, B; a rectangle in
@@ -27,7 +27,7 @@ The user-facing design follows seed 004 ("OpenBoundarySPHSystem", "InFlow",
   :class:`~seawall.errors.ParameterError` naming ``buffer_size``.
 
 :class:`Lastiwka` -- the method of characteristics (Lastiwka et al. 2009,
-seed 004), with the characteristic variables of Giles (1990):
+[TrixiBoundary]), with the characteristic variables of Giles (1990):
 
     J1 = -c_s^2 (rho - rho_ref) + (p - p_ref)
     J2 =  rho c_s (v - v_ref) . n + (p - p_ref)
@@ -36,12 +36,12 @@ seed 004), with the characteristic variables of Giles (1990):
 n the unit flow direction. Inflow: J1 = J2 = 0 prescribed, J3 transmitted;
 outflow: J3 = 0 prescribed, J1 and J2 transmitted. A transmitted value at a
 zone particle i is the Shepard interpolation of the fluid's values (Negi et
-al. 2020, seed 004)
+al. 2020, [TrixiBoundary])
 
     J_i = sum_j J_j W_ij / sum_j W_ij      (j: fluid particles only),
 
 with the reference values of particle i in every J_j (so that array
-references, given per zone particle, can be used; seed 004 evaluates
+references, given per zone particle, can be used; [TrixiBoundary] evaluates
 function references at the fluid particle instead -- the two differ by
 O(h grad ref)). Zone particles with no fluid particle in their support take
 the Shepard average over their zone neighbours that have one (repeated
@@ -83,7 +83,7 @@ def characteristic_sums(layout, idx, x, v, rho, zone, normals, start, order, lo,
     out[k] = (sum W, sum W rho_j, sum W p_j, sum W rho_j v_j . n_i), p_j the
     gauge pressure EOS(rho_j) - p_background and n_i the flow direction of
     the particle's zone. The characteristic variables follow linearly
-    (Negi et al. 2020 Shepard interpolation, seed 004).
+    (Negi et al. 2020 Shepard interpolation, [TrixiBoundary]).
     """
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
@@ -176,7 +176,7 @@ def _eos_density_array(p_gauge, prm, out):
 
 # ---------------------------------------------------------------- the characteristic relations
 def characteristic_variables(rho, v_n, p, rho_ref, v_ref_n, p_ref, c):
-    """(J1, J2, J3) of Giles (1990) as given in seed 004 (BoundaryModelLastiwka).
+    """(J1, J2, J3) of Giles (1990) as given in [TrixiBoundary] (BoundaryModelLastiwka).
 
     ``v_n``, ``v_ref_n``: velocity components along the flow direction;
     pressures gauge. Works on scalars or numpy arrays.
@@ -188,7 +188,7 @@ def characteristic_variables(rho, v_n, p, rho_ref, v_ref_n, p_ref, c):
 
 
 def invert_characteristics(J1, J2, J3, rho_ref, v_ref, p_ref, c, normal):
-    """rho, v, p from (J1, J2, J3): the inversion of seed 004 (BoundaryModelLastiwka).
+    """rho, v, p from (J1, J2, J3): the inversion of [TrixiBoundary] (BoundaryModelLastiwka).
 
         rho = rho_ref + (-J1 + (J2 + J3)/2) / c^2,   v = v_ref + (J2 - J3)/(2 rho c) n,
         p = p_ref + (J2 + J3)/2
@@ -401,7 +401,7 @@ class _Zone:
 
 
 class InFlow(_Zone):
-    """Inflow zone (seed 004, InFlow): the plane extruded upstream by ``open_boundary_layers`` layers.
+    """Inflow zone ([TrixiBoundary], InFlow): the plane extruded upstream by ``open_boundary_layers`` layers.
 
     Parameters
     ----------
@@ -433,7 +433,7 @@ class InFlow(_Zone):
 
 
 class OutFlow(_Zone):
-    """Outflow zone (seed 004, OutFlow): the plane extruded downstream; parameters as :class:`InFlow`.
+    """Outflow zone ([TrixiBoundary], OutFlow): the plane extruded downstream; parameters as :class:`InFlow`.
 
     Give the expected outflow velocity as ``reference_velocity``: with
     J3 = 0 the outflow state lies on p - p_ref = rho c (v - v_ref) . n, so a
@@ -447,7 +447,7 @@ class OutFlow(_Zone):
 
 # ---------------------------------------------------------------- model
 class Lastiwka:
-    """Method of characteristics (Lastiwka et al. 2009; seed 004, BoundaryModelLastiwka).
+    """Method of characteristics (Lastiwka et al. 2009; [TrixiBoundary], BoundaryModelLastiwka).
 
     Inflow: J1 = J2 = 0 prescribed, J3 transmitted; outflow: J3 = 0
     prescribed, J1, J2 transmitted (Shepard interpolation from the fluid,
@@ -464,7 +464,7 @@ class Lastiwka:
 
 # ---------------------------------------------------------------- the coupling
 class OpenBoundary(Coupling):
-    """Inflow/outflow zones of one fluid with a fixed buffer of spare particles (seed 004).
+    """Inflow/outflow zones of one fluid with a fixed buffer of spare particles ([TrixiBoundary]).
 
     Parameters
     ----------

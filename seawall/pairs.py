@@ -33,40 +33,40 @@ FLUID_TERMS = (CONTINUITY, PRESSURE, TENSILE, ARTIFICIAL_VISCOSITY, LAMINAR_VISC
 # ---------------------------------------------------------------- kernel helpers
 @njit(cache=True, inline="always")
 def gradient_factor(kind, gradient_scale, q):
-    """F with grad_i W_ij = F r_ij; ``gradient_scale`` = sigma / h^2, q = |r_ij| / h (seed 000 eq. 3)."""
+    """F with grad_i W_ij = F r_ij; ``gradient_scale`` = sigma / h^2, q = |r_ij| / h ([Li2022] eq. 3)."""
     return gradient_scale * kernel_gradient_factor(kind, q)
 
 
 @njit(cache=True, inline="always")
 def kernel_value(kind, sigma, q):
-    """W_ij = sigma w(q) (seed 000 eq. 2-3)."""
+    """W_ij = sigma w(q) ([Li2022] eq. 2-3)."""
     return sigma * kernel_shape(kind, q)
 
 
 # ---------------------------------------------------------------- continuity
 @njit(cache=True, inline="always")
 def continuity(m_j, vr, f):
-    """m_j v_ij . grad_i W_ij, with vr = v_ij . r_ij and f the gradient factor (seed 000 eq. 8)."""
+    """m_j v_ij . grad_i W_ij, with vr = v_ij . r_ij and f the gradient factor ([Li2022] eq. 8)."""
     return m_j * vr * f
 
 
 # ---------------------------------------------------------------- momentum
 @njit(cache=True, inline="always")
 def tensile_coefficient(p, rho):
-    """R = eps p / rho^2, eps = 0.01 for p > 0 and -0.2 otherwise (seed 000 eq. 20; Monaghan 2000)."""
+    """R = eps p / rho^2, eps = 0.01 for p > 0 and -0.2 otherwise ([Li2022] eq. 20; Monaghan 2000)."""
     return (0.01 if p > 0.0 else -0.2) * p / (rho * rho)
 
 
 @njit(cache=True, inline="always")
 def tensile_term(r_i, r_j, w_ratio):
-    """(R_i + R_j) (W_ij / W(dx))^4, added to p_i/rho_i^2 + p_j/rho_j^2 (seed 000 eq. 20)."""
+    """(R_i + R_j) (W_ij / W(dx))^4, added to p_i/rho_i^2 + p_j/rho_j^2 ([Li2022] eq. 20)."""
     w2 = w_ratio * w_ratio
     return (r_i + r_j) * w2 * w2
 
 
 @njit(cache=True, inline="always")
 def viscosity_acts(vr, all_pairs):
-    """Whether the artificial viscosity acts on a pair: approaching pairs (v_ij . r_ij < 0, seed 000
+    """Whether the artificial viscosity acts on a pair: approaching pairs (v_ij . r_ij < 0, [Li2022]
     eq. 6), or every pair when ``all_pairs`` is set."""
     return all_pairs != 0 or vr < 0.0
 
@@ -74,20 +74,20 @@ def viscosity_acts(vr, all_pairs):
 @njit(cache=True, inline="always")
 def monaghan_viscosity(alpha, beta, mu, c_ab, rho_ab):
     """Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2) / rho_ij, mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2)
-    (Monaghan 1992; seed 000 eq. 6). The caller checks :func:`viscosity_acts`."""
+    (Monaghan 1992; [Li2022] eq. 6). The caller checks :func:`viscosity_acts`."""
     return (-alpha * c_ab * mu + beta * mu * mu) / rho_ab
 
 
 @njit(cache=True, inline="always")
 def pressure_acceleration(m_j, coef, f):
-    """s with dv_i += s r_ij for -m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij (seed 000 eq. 5);
+    """s with dv_i += s r_ij for -m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij ([Li2022] eq. 5);
     ``coef`` is the bracket."""
     return -m_j * coef * f
 
 
 @njit(cache=True, inline="always")
 def laminar_viscosity(m_j, nu, rho_i, rho_j, f, r2, eta2):
-    """lam with dv_i += lam v_ij: the Morris et al. (1997) term as written in seed 003 eq. 9,
+    """lam with dv_i += lam v_ij: the Morris et al. (1997) term as written in [Liu2015] eq. 9,
 
         m_j (mu_i + mu_j) / (rho_i rho_j) v_ij (r_ij . grad_i W_ij) / (r_ij^2 + eta^2),  mu = rho nu.
     """
@@ -97,9 +97,9 @@ def laminar_viscosity(m_j, nu, rho_i, rho_j, f, r2, eta2):
 # ---------------------------------------------------------------- density diffusion
 @njit(cache=True, inline="always")
 def density_diffusion(coef, vol_j, rho_i, rho_j, f, renormalised, g_dot_r):
-    """delta h c0 V_j psi_ij . grad_i W_ij, ``coef`` = delta h c0 (seed 003 eq. 12), with
+    """delta h c0 V_j psi_ij . grad_i W_ij, ``coef`` = delta h c0 ([Liu2015] eq. 12), with
     psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2 (Molteni & Colagrossi 2009) and, when
-    ``renormalised``, minus (<grad rho>_i^L + <grad rho>_j^L) (seed 003 eq. 13); ``g_dot_r`` is
+    ``renormalised``, minus (<grad rho>_i^L + <grad rho>_j^L) ([Liu2015] eq. 13); ``g_dot_r`` is
     (<grad rho>_i^L + <grad rho>_j^L) . r_ij."""
     psi_dot = -2.0 * (rho_j - rho_i) * f
     if renormalised:
@@ -111,5 +111,5 @@ def density_diffusion(coef, vol_j, rho_i, rho_j, f, renormalised, g_dot_r):
 @njit(cache=True, inline="always")
 def xsph_weight(w, m_j, rho_i, rho_j):
     """m_j W_ij / rho_ij with rho_ij = (rho_i + rho_j)/2; dx_i/dt gets eps * weight * (v_j - v_i)
-    (seed 000 eq. 10, Monaghan 1989)."""
+    ([Li2022] eq. 10, Monaghan 1989)."""
     return w * m_j / (0.5 * (rho_i + rho_j))

@@ -1,6 +1,6 @@
 """Figures of docs/idbc.md: ``python -m seawall.plots_idbc [fields|box|drop|sweep|all] [--out docs/img]``.
 
-* fields -- dimensionless force and potential per order (seed 000 Fig. 1-2)
+* fields -- dimensionless force and potential per order ([Li2022] Fig. 1-2)
   and the force field of a row of six wall particles (Fig. 4 a-d);
 * box    -- particle-in-box trajectory and kinetic energy, DBC vs IDBC (Fig. 8);
 * drop   -- f_sym(t) of the drop on the symmetric and shifted walls (Fig. 11);

@@ -6,7 +6,7 @@ means the same thing whatever wall model is used:
 
 * :class:`WallPressure` -- the fluid pressure extrapolated to a point on a
   wall with the hydrostatic/acceleration term (the Adami et al. 2012 form,
-  seed 004: p = sum_f (p_f + rho_f (g - a) . (x - x_f)) W / sum_f W). It is
+  [TrixiBoundary]: p = sum_f (p_f + rho_f (g - a) . (x - x_f)) W / sum_f W). It is
   exact for still water, so the probe has no bias from the kernel's
   truncation at the wall, as a plain Shepard average would.
 * :class:`PressureSensor` -- the same wall pressure averaged over a sensor's
@@ -128,7 +128,7 @@ class PressureSensor(Probe):
     and surface points), and the face is centred on the point's projection
     onto that surface. The value is (1/A) int_face p dA of the field that
     :class:`WallPressure` samples at one point (the Adami et al. 2012
-    extrapolation, seed 004), integrated by :func:`seawall.sampling.face_points`
+    extrapolation, [TrixiBoundary]), integrated by :func:`seawall.sampling.face_points`
     with points no farther apart than dx / 2. For still water (p linear) the
     sensor reads the point probe's value at its centre; where the pressure
     varies on the face's scale (an impact) it reads the mean, and noise of
@@ -248,7 +248,7 @@ class WallForce(Probe):
 
     The sum over fluid particles of -m_i times the wall's contribution to
     their acceleration, at the last evaluation of the rates (the pairwise form
-    of seed 001 eq. 29 for a momentum-conserving wall model).
+    of [Huang2019] eq. 29 for a momentum-conserving wall model).
     """
 
     def __init__(self, name, wall, axis=0):

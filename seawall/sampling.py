@@ -1,7 +1,7 @@
 """Fluid fields at arbitrary points: lines and grids (pressure along a wall, velocity on a centreline).
 
 A field f is interpolated at a point x by the Shepard-normalised SPH sum
-(seed 001, sec. 3.3, eq. 14-16 -- the "normalised" interpolation that ghost
+([Huang2019], sec. 3.3, eq. 14-16 -- the "normalised" interpolation that ghost
 walls use at their mirror points, whose compiled gather this module reuses):
 
     f(x) = sum_j f_j W(x - x_j) V_j / sum_j W(x - x_j) V_j,    V_j = m_j / rho_j,
@@ -64,7 +64,7 @@ def interpolate(sim, points, quantities=("pressure", "u", "v")):
         sub = np.ascontiguousarray(pts[inside])
         res = np.empty((sub.shape[0], len(quantities)))
         count = np.zeros(sub.shape[0], dtype=np.int64)
-        # the same gather as the ghost walls' normalised interpolation (seed 001 eq. 14-16)
+        # the same gather as the ghost walls' normalised interpolation ([Huang2019] eq. 14-16)
         interpolate_points(g.layout, NORMALISED, 0.0, 0.0, 0, sub, fp["x"], values, fp["m"] / fp["rho"],
                            cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, sim.physics, res, count)
         res[count == 0] = np.nan

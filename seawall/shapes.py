@@ -441,7 +441,7 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
 def tank_surface(lo, hi, spacing, open_top=True) -> Shape:
     """One layer of wall particles *on* the surface of the box [lo, hi] (2D or 3D).
 
-    For repulsive-particle walls (Monaghan & Kajtar 2009; seed 004), whose
+    For repulsive-particle walls (Monaghan & Kajtar 2009; [TrixiBoundary]), whose
     particles sit on the wall line at a spacing ``spacing`` = dx / beta,
     smaller than the fluid's. Faces are the planes x_k = lo_k, hi_k except the
     top (last axis) when ``open_top``; each face is sampled with

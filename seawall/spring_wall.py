@@ -1,16 +1,16 @@
-"""A rigid wall on a spring that gives way under a wave's impact (seed 001 sec. 4.4, after Liang et al. 2017).
+"""A rigid wall on a spring that gives way under a wave's impact ([Huang2019] sec. 4.4, after Liang et al. 2017).
 
 The wall (mass m per metre, spring stiffness k, relaxed at its initial
 position x0) stays put until the force of the fluid on it exceeds the
-threshold F_threshold = r F_static (r = 1.10 in seed 001; F_static the
-hydrostatic force). Seed 001 sec. 4.4 integrates, once per time step n:
+threshold F_threshold = r F_static (r = 1.10 in [Huang2019]; F_static the
+hydrostatic force). [Huang2019] sec. 4.4 integrates, once per time step n:
 
     a_n     = ((F_n - F_threshold) - k (x_n - x0)) / m    if F_n > F_threshold
     a_n     = -k (x_n - x0) / m                           otherwise
     v_{n+1} = v_n + a_n dt
     x_{n+1} = x_n + v_{n+1} dt   if that exceeds x0,   else x0
 
-with F_n the impact force of seed 001 eq. 29, the pairwise force of the
+with F_n the impact force of [Huang2019] eq. 29, the pairwise force of the
 fluid on the wall particles, F = sum_i m_i sum_j m_j/rho_j (p_j/rho_j +
 p_i/rho_i) grad_i W_ij for the pressure part (read from
 ``sim.wall_forces``, which every wall model fills with minus what the wall
@@ -36,7 +36,7 @@ from .waves import RigidMotion
 
 
 class SpringWall(Coupling):
-    """Spring-mounted rigid wall driven by the fluid's force (seed 001 sec. 4.4).
+    """Spring-mounted rigid wall driven by the fluid's force ([Huang2019] sec. 4.4).
 
     Parameters
     ----------
@@ -49,7 +49,7 @@ class SpringWall(Coupling):
     static_force : float
         Hydrostatic force on the wall F_static [N/m] (> 0).
     threshold_ratio : float
-        F_threshold / F_static (seed 001: 1.10).
+        F_threshold / F_static ([Huang2019]: 1.10).
     axis : int
         Axis along which the wall moves; the force along +axis pushes it.
     name : str
@@ -100,7 +100,7 @@ class SpringWall(Coupling):
         self._sim = sim
 
     def step_motion(self, force, dt):
-        """Advance the wall by one step under the force ``force`` (seed 001 sec. 4.4); returns (x - x0, v, a)."""
+        """Advance the wall by one step under the force ``force`` ([Huang2019] sec. 4.4); returns (x - x0, v, a)."""
         self.force = float(force)
         spring = self.stiffness * self.displacement
         if self.force > self.threshold:

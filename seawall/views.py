@@ -48,8 +48,8 @@ class Rates(NamedTuple):
 
     dv: np.ndarray       # acceleration
     drho: np.ndarray     # density rate
-    xsph: np.ndarray     # XSPH velocity correction (seed 000 eq. 10)
-    mu_max: np.ndarray   # max_j |mu_ij| for the time-step rule (seed 000 eq. 11)
+    xsph: np.ndarray     # XSPH velocity correction ([Li2022] eq. 10)
+    mu_max: np.ndarray   # max_j |mu_ij| for the time-step rule ([Li2022] eq. 11)
 
 
 class WallView(NamedTuple):

@@ -225,7 +225,7 @@ class RegularPaddle:
 class RigidMotion(PrescribedMotion):
     """:class:`PrescribedMotion` that also carries the wall's surface points and mirror points along.
 
-    Ghost walls (seed 001) mirror the fluid across the wall surface; when the
+    Ghost walls ([Huang2019]) mirror the fluid across the wall surface; when the
     wall translates, its surface points and mirror points translate with it
     (their offsets from the particle, ``surface - x`` and ``mirror - x``, are
     invariant under a translation).
@@ -410,7 +410,7 @@ class WallPressureForce(Probe):
     displacement also moves the segment) and n the unit normal pointing from
     the fluid into the wall (``outward``). Returns the ``axis`` component.
     Dry points read zero. This is the second way the issue asks to measure the
-    wall force, beside the pairwise form of seed 001 eq. 29 (:class:`~seawall.probes.WallForce`).
+    wall force, beside the pairwise form of [Huang2019] eq. 29 (:class:`~seawall.probes.WallForce`).
     """
 
     def __init__(self, name, a, b, outward, axis=0, n=50, follow=None):

@@ -1,4 +1,4 @@
-"""Hydrostatic tank (seed 001 sec. 4.1) with the five ghost-wall interpolations.
+"""Hydrostatic tank ([Huang2019] sec. 4.1) with the five ghost-wall interpolations.
 
 Runs ``hydrostatic`` with the seed's fluid scheme (marrone2011: linear EOS,
 Gaussian kernel cut at 3h, delta-SPH, alpha = 0.02, h = 1.3 dx) for each of

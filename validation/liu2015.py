@@ -1,4 +1,4 @@
-"""Seed 003 sec. 4 per wall model: plates, cavity (Re = 1 and Re = 100) and the ETSIN dam break.
+"""[Liu2015] sec. 4 per wall model: plates, cavity (Re = 1 and Re = 100) and the ETSIN dam break.
 
     python validation/liu2015.py [--quick] [--only plates,cavity1,cavity100,dam]
 
@@ -44,7 +44,7 @@ def _run(sim, t_end):
 
 
 def plates(lines, quick):
-    lines += ["## Plates (seed 003 sec. 4.1)", "",
+    lines += ["## Plates ([Liu2015] sec. 4.1)", "",
               "Block 0.04 x 0.04 m at 1 m/s, dx = 1 mm, h = 1.5 dx, no gravity; c_s = 10 m/s (Monaghan-Kajtar: "
               "1 m/s and K = 0.01 c_s^2, as the seed runs it). Deformation = largest distance of a particle from "
               "its rigid-translation position, over the particles still between the plates and over all.", "",
@@ -96,9 +96,9 @@ def cavity(lines, quick, reynolds):
     times = tuple(t * (0.1 if quick else 1.0) for t in CAVITY_TIMES[reynolds])
     c0 = 0.05 if reynolds == 1 else 0.01
     s_u, u_ref, s_v, v_ref, label = _cavity_reference(reynolds)
-    lines += [f"## Cavity, Re = {reynolds} (seed 003 sec. 4.2)", "",
+    lines += [f"## Cavity, Re = {reynolds} ([Liu2015] sec. 4.2)", "",
               f"L = 1 mm, lid U = 1 mm/s, nu = U L / Re, dx = L/{n}, h = 1.2 dx, c_s = {c0:g} m/s, 4 wall layers, "
-              f"seed 003 fluid (`cavity --set fluid=liu2015`). Reference: {label}. Error = largest |seawall - "
+              f"[Liu2015] fluid (`cavity --set fluid=liu2015`). Reference: {label}. Error = largest |seawall - "
               "reference| / U over the reference stations at least dx from the walls (Shepard interpolation), "
               f"at t = {', '.join(f'{t:g}' for t in times)} s.", "",
               "| model | status | wall time | " + " | ".join(f"max err u (s), t = {t:g} s | max err v (s), t = {t:g} s"
@@ -153,12 +153,12 @@ def dam(lines, quick, reuse=False):
 
     H, g, rho0 = 0.3, 9.81, 1000.0
     t_end = 0.3 if quick else 1.45
-    lines += ["## Dam break, ETSIN (seed 003 sec. 4.4)", "",
+    lines += ["## Dam break, ETSIN ([Liu2015] sec. 4.4)", "",
               "H = 0.3 m, column 0.6 m, tank 1.61 m, dx = 6 mm (5000 particles), h = 1.2 dx, c_s = 10 sqrt(2 g H) "
               "= 24.26 m/s, dt = 5e-5 s (the seed's), hydrostatic start, gate removed at t = 0 (last row: lifted at "
-              "3.46 m/s as in the experiment), seed 003 fluid. t* = t sqrt(g/H), p* = p / (rho g H); "
+              "3.46 m/s as in the experiment), [Liu2015] fluid. t* = t sqrt(g/H), p* = p / (rho g H); "
               "S1 = 3 mm and S3 = 30 mm above the floor on the wall hit by the surge (the seed's monitoring points "
-              "1 and 2). Seed 003 (text of sec. 4.4): peaks of about 3 (point 1) and 1.8 (point 2) at t* ~ 2.5.", "",
+              "1 and 2). [Liu2015] (text of sec. 4.4): peaks of about 3 (point 1) and 1.8 (point 2) at t* ~ 2.5.", "",
               "Peak = largest sample (every 5e-4 s: the impact spike); smoothed peak = largest running mean over "
               f"dt* = {SMOOTH} ({SMOOTH * np.sqrt(H / g) * 1e3:.0f} ms) up to t* = {FIRST_IMPACT_END:g} (the first impact; "
               "the reflected wave returns at t* ~ 8); plateau = mean over t* = 3-5. "

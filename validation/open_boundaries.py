@@ -1,4 +1,4 @@
-"""Open boundaries: channel profile against Poiseuille, and the S-cavity filling (seed 003 sec. 4.3).
+"""Open boundaries: channel profile against Poiseuille, and the S-cavity filling ([Liu2015] sec. 4.3).
 
     python validation/open_boundaries.py                 # channel at H/20, H/30, cavity at dx = 2 mm, duct (~6 min)
     python validation/open_boundaries.py --cavity-dx 1e-3   # the seed's resolution (~1 h on one core)

@@ -3,7 +3,7 @@
     python validation/waves_docs.py                    # coarse: dx = 0.025 m / 0.02 m, ~20 min on 2 cores
     python validation/waves_docs.py --seawall-dx 0.01 --movable-dx 0.008   # the seed's resolutions (hours)
 
-``solitary-seawall`` (seed 001 sec. 4.3: 10 m flume, d = 0.25 m, H = 0.15 m, wall at 120 deg,
+``solitary-seawall`` ([Huang2019] sec. 4.3: 10 m flume, d = 0.25 m, H = 0.15 m, wall at 120 deg,
 probes P0/P1 at y = 0.05/0.15 m) and ``movable-seawall`` (sec. 4.4: wall at 2.5 m on a
 spring, d = 0.2 m, m = 250 kg/m, k = 10 N/m, H = 0.1 m our choice) with adami, dbc and
 ghost-shepard. Writes validation/out/waves_<case>_<model>.csv, docs/img/waves_*.png and

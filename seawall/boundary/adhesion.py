@@ -1,6 +1,6 @@
-"""Fluid-wall adhesion of Akinci, Akinci & Teschner (2013), as seed 004 offers it.
+"""Fluid-wall adhesion of Akinci, Akinci & Teschner (2013), as [TrixiBoundary] offers it.
 
-Seed 004 gives wall systems an ``adhesion_coefficient`` beta; the force is
+[TrixiBoundary] gives wall systems an ``adhesion_coefficient`` beta; the force is
 the adhesion term of Akinci et al. (2013), "Versatile surface tension and
 adhesion for SPH fluids", ACM TOG 32(6), eq. 6-7:
 
@@ -12,7 +12,7 @@ so the acceleration of fluid particle i from wall particle k is
 
 pointing from i towards the wall particle (attraction). Psi_k is the wall
 particle's fluid-equivalent mass, which we take as the hydrodynamic mass
-rho0 dx_wall^d of seed 004 (the same mass the dummy particles carry).
+rho0 dx_wall^d of [TrixiBoundary] (the same mass the dummy particles carry).
 The adhesion kernel, with s the support radius of the SPH kernel (Akinci's
 "h" is the support radius, not the smoothing length), is
 
@@ -22,9 +22,9 @@ The adhesion kernel, with s the support radius of the SPH kernel (Akinci's
 The bracket is -(4/s)(r - s/2)(r - s): zero at r = s/2 and r = s and
 positive between, so the force vanishes continuously at both ends and
 peaks at r = 3s/4. The constant 0.007 s^-3.25 is the paper's (derived for
-3D); seed 004 uses the same expression in 2D, and so do we. beta is in
+3D); [TrixiBoundary] uses the same expression in 2D, and so do we. beta is in
 the paper's units, so only relative values of it carry meaning across
-resolutions; seed 004's default is 0 (no adhesion).
+resolutions; [TrixiBoundary]'s default is 0 (no adhesion).
 """
 
 import numpy as np

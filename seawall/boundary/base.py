@@ -87,7 +87,7 @@ class WallModel:
         by :meth:`state`); they and the state go into checkpoints.
     ``joins_summation_density``
         whether the wall's masses ``m`` count in a summation-density fluid's
-        rho_i = sum_j m_j W_ij (seed 000 eq. 7).
+        rho_i = sum_j m_j W_ij ([Li2022] eq. 7).
     :meth:`check`
         refuses a bad combination with the fluid in one line, before
         :meth:`prepare`.
@@ -145,7 +145,7 @@ class WallModel:
     #: particle among several. Then each wall particle feels the reaction -f_ib, the reactions
     #: sum to the force the ``WallForce`` probe reports (minus the wall's share of the fluid's
     #: momentum change), and fluid + wall conserve linear momentum pair by pair (Newton's third
-    #: law; seed 001 eq. 29 computes the wall force this way). Angular momentum is conserved too
+    #: law; [Huang2019] eq. 29 computes the wall force this way). Angular momentum is conserved too
     #: only when f_ib is also central (along r_ib); the normal-only push of Liu et al. (2015) is
     #: not. ``tests/contract`` checks the property for every model that declares True (the
     #: wall's push is additive over any split of its particles) and requires every model to
@@ -175,7 +175,7 @@ class WallModel:
 
 def noslip_viscosity(nu, physics):
     """Kinematic viscosity of a no-slip wall term: ``nu`` if given, else the fluid's laminar nu, else
-    alpha h c0 / (2 d + 4) from its artificial viscosity (the equivalence given in seed 004)."""
+    alpha h c0 / (2 d + 4) from its artificial viscosity (the equivalence given in [TrixiBoundary])."""
     if nu is not None:
         wall_nu = nu
     elif physics.nu > 0.0:
@@ -215,7 +215,7 @@ class WallSystem:
     movement : seawall.boundary.movement.PrescribedMotion, optional
         Prescribed motion x(t) = x0 + f(t) of (some of) the particles.
     adhesion_coefficient : float
-        beta of the Akinci et al. (2013) fluid-wall adhesion force (seed 004;
+        beta of the Akinci et al. (2013) fluid-wall adhesion force ([TrixiBoundary];
         see :mod:`seawall.boundary.adhesion`), default 0 (none).
     name : str
         Used in messages and output file names.

@@ -1,17 +1,17 @@
-"""Dynamic boundaries: DBC (Crespo et al. 2007) and the improved DBC of Li, Zhang & Yuan (seed 000).
+"""Dynamic boundaries: DBC (Crespo et al. 2007) and the improved DBC of Li, Zhang & Yuan ([Li2022]).
 
 Wall particles of a dynamic boundary stay put (or move as prescribed) but
-carry their own density, advanced by the continuity equation (seed 000
+carry their own density, advanced by the continuity equation ([Li2022]
 eq. 8) from the fluid around them; their pressure follows from an equation
 of state, and they push on the fluid through the ordinary SPH momentum
-equation (seed 000 eq. 5, with the tensile correction of eq. 20 and an
+equation ([Li2022] eq. 5, with the tensile correction of eq. 20 and an
 artificial viscosity of its own, eq. 6 with ``alpha_wall``).
 
-IDBC (seed 000 sec. 3) changes three things, each switchable here:
+IDBC ([Li2022] sec. 3) changes three things, each switchable here:
 
 (a) ``order`` -- the pressure used in the fluid-wall pair term is the Tait
     EOS expanded to ``order`` terms in lambda = (rho - rho0)/rho0
-    (seed 000 eq. 21-22)::
+    ([Li2022] eq. 21-22)::
 
         P_N = c0^2 rho0 lambda sum_{k<N} a_k lambda^k,  a = (1, 3, 5, 5, 3, 1, 1/7)
 
@@ -22,14 +22,14 @@ IDBC (seed 000 sec. 3) changes three things, each switchable here:
 (b) ``rectangular`` -- a boundary particle's support is a rectangle 4h long
     along its wall normal n (|r_1| < 2h) and 2 dx wide along the wall
     (|s| <= dx for each tangential coordinate s); inside it the kernel
-    depends on the normal distance only (seed 000 eq. 26)::
+    depends on the normal distance only ([Li2022] eq. 26)::
 
         r_1 = r_ab . n,    (grad_a W_ab)_1 = n dW(|r_1|)/dr_1,
 
     used in the fluid's and the wall's continuity equations and in the force.
 (c) ``correction`` -- with the rectangle, the kernel normalisation is
     multiplied by alpha_DB = 1 / (alpha_D I'), I' the integral of the kernel
-    shape over the rectangle (seed 000 eq. 27-28 and the appendix):
+    shape over the rectangle ([Li2022] eq. 27-28 and the appendix):
     7 pi h / (30 dx) in 2D and pi h^2 / (6 dx dy) in 3D for the cubic spline.
 
 Choices where the seed is silent or ambiguous (see docs/idbc.md):
@@ -66,7 +66,7 @@ from ..pairs import (continuity, monaghan_viscosity, pressure_acceleration, tens
 from ..views import cell_view, fluid_view, wall_view
 from .base import WallModel, rates_bundle
 
-#: coefficients a_k of the expanded Tait EOS, seed 000 eq. 21: (1/7) C(7, k+1)
+#: coefficients a_k of the expanded Tait EOS, [Li2022] eq. 21: (1/7) C(7, k+1)
 EXPANSION = np.array([1.0, 3.0, 5.0, 5.0, 3.0, 1.0, 1.0 / 7.0])
 MAX_ORDER = 7
 WALL_DENSITY_MODES = ("continuity", "consistent")
@@ -75,7 +75,7 @@ _EDGE_TOL = 1e-9
 
 @njit(cache=True, inline="always")
 def expanded_pressure(rho, rho0, c0, order, p_background):
-    """Tait EOS (gamma = 7) expanded to ``order`` terms (seed 000 eq. 21); order 1 is eq. 12."""
+    """Tait EOS (gamma = 7) expanded to ``order`` terms ([Li2022] eq. 21); order 1 is eq. 12."""
     lam = (rho - rho0) / rho0
     f = 0.0
     for k in range(order - 1, -1, -1):
@@ -103,9 +103,9 @@ def wall_kernel(kind, rect, dim, d0, d1, d2, nb0, nb1, nb2, ta0, ta1, ta2, tb0, 
     Returns (shape, W, G, e0, e1, e2, rr, r2): grad_a W = G e with e a unit
     vector; rr = r_ab . e-projected separation times |e| used in mu (v_ab .
     r_eff = (v_ab . e) rr), r2 = |r_eff|^2; shape = w(q) for the tensile term.
-    Circular support (DBC): e = d / |d| (seed 000 eq. 3, 5). Rectangular
+    Circular support (DBC): e = d / |d| ([Li2022] eq. 3, 5). Rectangular
     (IDBC): e = sign(r_1) n, r_1 = d . n, |r_1| < support, tangential window
-    (seed 000 eq. 26), kernel times ``corr`` = alpha_DB (eq. 28). shape < 0
+    ([Li2022] eq. 26), kernel times ``corr`` = alpha_DB (eq. 28). shape < 0
     marks a pair outside the support.
     """
     if rect:
@@ -136,7 +136,7 @@ def wall_kernel(kind, rect, dim, d0, d1, d2, nb0, nb1, nb2, ta0, ta1, ta2, tb0, 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order, lo, inv_cell, ncell, period,
                   prm, rect, corr, half_a, half_b, drho_w, sum_w, drift_w):
-    """Continuity rate of every wall particle (seed 000 eq. 8, with eq. 26 when ``rect``).
+    """Continuity rate of every wall particle ([Li2022] eq. 8, with eq. 26 when ``rect``).
 
     drho_w[b] = sum_f m_f (v_f - v_b) . grad_f W_fb  (= sum_f m_f (v_b - v_f) . grad_b W_bf, eq. 8)
     sum_w[b]  = sum_f m_f W_bf                       (eq. 7 over the fluid)
@@ -185,7 +185,7 @@ def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order,
 
 
 class DynamicParams(NamedTuple):
-    """The compiled parameters of a dynamic boundary (seed 000 sec. 3)."""
+    """The compiled parameters of a dynamic boundary ([Li2022] sec. 3)."""
 
     eos_order: int      # terms of the expanded Tait EOS in the pair (eq. 21-23)
     rectangular: int    # rectangular support of eq. 26
@@ -199,13 +199,13 @@ class DynamicParams(NamedTuple):
 def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, rates):
     """Add the wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
-    continuity: drho_a += m_b (v_a - v_b) . grad_a W_ab                       (seed 000 eq. 8)
+    continuity: drho_a += m_b (v_a - v_b) . grad_a W_ab                       ([Li2022] eq. 8)
     momentum:   dv_a -= m_b (P_N(rho_a)/rho_a^2 + P_N(rho_b)/rho_b^2 + Pi_ab + f_ten) grad_a W_ab
-                (seed 000 eq. 5 with the expanded EOS of eq. 21; eq. 23 for two particles)
-    Pi_ab = -alpha_wall c_ab mu_ab / rho_ab for v_ab . r_ab < 0                (seed 000 eq. 6)
-    f_ten = (R_a + R_b) (w(q)/w(dx/h))^4, R = eps P/rho^2                     (seed 000 eq. 20)
-    rates.mu_max[a] is raised to |mu_ab| for the time-step rule (seed 000 eq. 11).
-    XSPH:       rates.xsph_a += eps m_b / rho_ab (v_b - v_a) W_ab  (seed 000 eq. 10: the wall particles
+                ([Li2022] eq. 5 with the expanded EOS of eq. 21; eq. 23 for two particles)
+    Pi_ab = -alpha_wall c_ab mu_ab / rho_ab for v_ab . r_ab < 0                ([Li2022] eq. 6)
+    f_ten = (R_a + R_b) (w(q)/w(dx/h))^4, R = eps P/rho^2                     ([Li2022] eq. 20)
+    rates.mu_max[a] is raised to |mu_ab| for the time-step rule ([Li2022] eq. 11).
+    XSPH:       rates.xsph_a += eps m_b / rho_ab (v_b - v_a) W_ab  ([Li2022] eq. 10: the wall particles
                 are neighbours like any other in DBC)
     The tensile and XSPH terms act when the fluid has them and ``terms`` (CrossTerms) lets them across.
     """
@@ -325,7 +325,7 @@ def wall_pressures(rho, rho0, c0, order, p_background, p):
 
 
 def alpha_db(h, dx, dy=None, kernel=CUBIC_SPLINE, dim=2):
-    """Correction factor alpha_DB of the rectangular support (seed 000 eq. 28, appendix e-k).
+    """Correction factor alpha_DB of the rectangular support ([Li2022] eq. 28, appendix e-k).
 
     alpha_DB = 1 / (alpha_D I'), I' = integral of W/alpha_D over the rectangle
     = (2 dx) [(2 dy)] 2 h int_0^Q w(q) dq. For the cubic spline int_0^2 w = 3/4,
@@ -368,12 +368,12 @@ def tangent_frames(normals):
 
 
 class ImprovedDynamicBoundary(WallModel):
-    """Dynamic boundary particles, DBC or IDBC (seed 000 sec. 3), each improvement switchable.
+    """Dynamic boundary particles, DBC or IDBC ([Li2022] sec. 3), each improvement switchable.
 
     Parameters
     ----------
     order : int, 1..7
-        Terms of the expanded Tait EOS in the fluid-wall pair (seed 000 eq.
+        Terms of the expanded Tait EOS in the fluid-wall pair ([Li2022] eq.
         21-23); 1 = plain DBC (eq. 12), 7 = full EOS. Default 7.
     rectangular : bool
         Rectangular support with the normal projection of eq. 26 (default True).
@@ -381,13 +381,13 @@ class ImprovedDynamicBoundary(WallModel):
         Kernel correction alpha_DB of eq. 28 (needs ``rectangular``);
         default: same as ``rectangular``.
     alpha_wall : float
-        Artificial viscosity alpha of fluid-wall pairs (seed 000 eq. 6); default 0.
+        Artificial viscosity alpha of fluid-wall pairs ([Li2022] eq. 6); default 0.
     initial_pressure : callable, optional
         Function of the (N, d) wall positions giving the initial wall
         pressure [Pa] (e.g. hydrostatic); the density follows from the full
         Tait EOS. Default: reference density.
     wall_density : {"continuity", "consistent"}, optional
-        How the wall density is advanced: the continuity equation of seed 000
+        How the wall density is advanced: the continuity equation of [Li2022]
         (eq. 8 with the kernel gradient of eq. 26 for the rectangle; default)
         or ``consistent``, its exact time integral that keeps the jumps at the
         rectangle's edges (better for one particle bouncing in a box, but it
@@ -395,11 +395,11 @@ class ImprovedDynamicBoundary(WallModel):
     """
 
     #: pairwise_momentum (see WallModel): wall particles enter the fluid's momentum equation
-    #: as fluid particles do, one symmetric pair term each (seed 000 eq. 5); central.
+    #: as fluid particles do, one symmetric pair term each ([Li2022] eq. 5); central.
     pairwise_momentum = True
 
     name = "idbc"
-    #: DBC treats wall particles as neighbours like any other (seed 000 sec. 2): the tensile
+    #: DBC treats wall particles as neighbours like any other ([Li2022] sec. 2): the tensile
     #: correction and XSPH of the fluid act across the wall; the artificial viscosity is the wall's
     #: own (alpha_wall); no laminar viscosity or density diffusion
     fluid_terms = frozenset({"continuity", "pressure", "tensile", "artificial_viscosity", "xsph"})
@@ -424,12 +424,12 @@ class ImprovedDynamicBoundary(WallModel):
         if correction is None:
             correction = self.rectangular
         if correction and not self.rectangular:
-            raise ParameterError("correction=True (alpha_DB, seed 000 eq. 28) needs rectangular=True")
+            raise ParameterError("correction=True (alpha_DB, [Li2022] eq. 28) needs rectangular=True")
         self.correction = bool(correction)
         self.alpha_wall = require_nonnegative("alpha_wall", alpha_wall)
         self.initial_pressure = initial_pressure
         if wall_density is None:
-            wall_density = "continuity"  # seed 000 sec. 3.2: eq. 8 with eq. 26 (docs/idbc.md, choice 3)
+            wall_density = "continuity"  # [Li2022] sec. 3.2: eq. 8 with eq. 26 (docs/idbc.md, choice 3)
         if wall_density not in WALL_DENSITY_MODES:
             raise ParameterError(f"wall_density must be one of {', '.join(WALL_DENSITY_MODES)}; got {wall_density!r}")
         self.wall_density = wall_density
@@ -540,9 +540,9 @@ class ImprovedDynamicBoundary(WallModel):
 
 
 class DynamicBoundary(ImprovedDynamicBoundary):
-    """Plain DBC (Crespo, Gomez-Gesteira & Dalrymple 2007) as seed 000 sec. 2-3 describes it.
+    """Plain DBC (Crespo, Gomez-Gesteira & Dalrymple 2007) as [Li2022] sec. 2-3 describes it.
 
-    Circular support, linear EOS in the wall pair (seed 000 eq. 12), no
+    Circular support, linear EOS in the wall pair ([Li2022] eq. 12), no
     alpha_DB: ``ImprovedDynamicBoundary(order=1, rectangular=False)``.
     The switches stay available to build the intermediate variants of the
     seed's Fig. 4.

@@ -1,6 +1,6 @@
-"""Dimensionless force and potential of dynamic boundary particles (seed 000 Fig. 1, 2 and 4).
+"""Dimensionless force and potential of dynamic boundary particles ([Li2022] Fig. 1, 2 and 4).
 
-Two particles of equal mass m with summation densities (seed 000 eq. 15-17)
+Two particles of equal mass m with summation densities ([Li2022] eq. 15-17)
 rho_a = rho_b = m (W_ab + W_0), rho_0 = m W_0, and the EOS expanded to N
 terms (eq. 21) push each other with (eq. 18, 23)
 
@@ -30,7 +30,7 @@ __all__ = ["f_order", "pair_force", "pair_potential", "potential_energy", "row_f
 
 
 def f_order(theta, order):
-    """f_N(theta) of seed 000 eq. 23, N = ``order`` terms."""
+    """f_N(theta) of [Li2022] eq. 23, N = ``order`` terms."""
     theta = np.asarray(theta, dtype=np.float64)
     f = np.zeros_like(theta)
     for k in range(order - 1, -1, -1):
@@ -66,12 +66,12 @@ def pair_potential(q, order, scale=1.0, samples=4001):
 
 
 def potential_energy(order, scale=1.0):
-    """Total dimensionless potential U*(0) = int_0^2 F* dq (seed 000 Fig. 2)."""
+    """Total dimensionless potential U*(0) = int_0^2 F* dq ([Li2022] Fig. 2)."""
     return float(pair_potential(0.0, order, scale))
 
 
 def row_force_field(x, y, *, order=1, rectangular=False, correction=False, n_particles=6, h_over_dx=1.3):
-    """Dimensionless force field (F*_x, F*_y) of a row of wall particles (seed 000 Fig. 4).
+    """Dimensionless force field (F*_x, F*_y) of a row of wall particles ([Li2022] Fig. 4).
 
     The row has ``n_particles`` particles at x = (k - (n-1)/2) dx, y = 0, normal +y;
     ``x``, ``y`` are arrays of fluid positions in units of dx. Each wall

@@ -1,11 +1,11 @@
-"""Dummy-particle walls (seed 004, "BoundaryModelDummyParticles").
+"""Dummy-particle walls ([TrixiBoundary], "BoundaryModelDummyParticles").
 
 Wall particles are treated like fluid particles in the fluid's momentum and
 continuity equations, but they do not move with the flow. What distinguishes
 the variants is how the wall particles' pressure and density are found (the
 "density calculator"). This module implements:
 
-* ``adami`` -- Adami, Hu & Adams (2012) pressure extrapolation (seed 004,
+* ``adami`` -- Adami, Hu & Adams (2012) pressure extrapolation ([TrixiBoundary],
   "AdamiPressureExtrapolation"):
 
       p_b = sum_f (p_f + rho_f (g - a_b) . r_bf) W_bf / sum_f W_bf,   r_bf = r_b - r_f
@@ -13,28 +13,28 @@ the variants is how the wall particles' pressure and density are found (the
   and rho_b from the inverse equation of state. Wall particles with no fluid
   neighbour get p_b = 0 (reference density).
 * ``summation`` -- rho_b = sum_j m_j W_bj over fluid and wall neighbours, self
-  included (seed 004, "SummationDensity"; seed 000 eq. 7), p_b = EOS(rho_b).
-* ``continuity`` -- drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf (seed 004,
-  "ContinuityDensity"; seed 000 eq. 8), p_b = EOS(rho_b). The wall density is
+  included ([TrixiBoundary], "SummationDensity"; [Li2022] eq. 7), p_b = EOS(rho_b).
+* ``continuity`` -- drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf ([TrixiBoundary],
+  "ContinuityDensity"; [Li2022] eq. 8), p_b = EOS(rho_b). The wall density is
   advanced between evaluations by the rate of the previous one (explicit
   Euler over the interval between evaluations). With no slip it keeps this
   density: the Adami pass then supplies only the wall velocity.
-* ``zeroing`` -- rho_b = rho0, p_b = p(rho0) (seed 004, "PressureZeroing").
+* ``zeroing`` -- rho_b = rho0, p_b = p(rho0) ([TrixiBoundary], "PressureZeroing").
 * ``mirroring`` -- rho_b = rho0 and, in the momentum equation, p_b = p_a of the
-  interacting fluid particle (seed 004, "PressureMirroring", after Akinci et
+  interacting fluid particle ([TrixiBoundary], "PressureMirroring", after Akinci et
   al. 2012 and Band et al. 2018).
 
 The wall mass is the "hydrodynamic mass" rho0 dx^d of a fluid particle at
-the wall spacing (seed 004), independent of any wall material density.
+the wall spacing ([TrixiBoundary]), independent of any wall material density.
 
 Slip: free slip by default (no viscous wall term). No slip follows Adami et
-al. (2012) through the wall velocity (seed 004, "No-slip conditions")
+al. (2012) through the wall velocity ([TrixiBoundary], "No-slip conditions")
 
       v_w = 2 v_b - sum_f v_f W_bf / sum_f W_bf,
 
 used only in a laminar viscous term with kinematic viscosity nu (by default
 the fluid's nu, or alpha h c0 / (2 d + 4) when the fluid uses artificial
-viscosity -- the equivalence given in seed 004).
+viscosity -- the equivalence given in [TrixiBoundary]).
 """
 
 import numpy as np
@@ -111,7 +111,7 @@ def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, or
                            period, prm, clip_negative, rhow, pw):
     """rho_b = sum_j m_j W_bj over wall (self included) and fluid neighbours; p_b = EOS(rho_b).
 
-    Seed 004 "SummationDensity"; seed 000 eq. 7. With ``clip_negative`` the
+    [TrixiBoundary] "SummationDensity"; [Li2022] eq. 7. With ``clip_negative`` the
     pressure is floored at the background pressure: the outer wall layers
     miss neighbours beyond the wall, so their summed density is below rho0
     (990 and 763 kg/m^3 in layers 2 and 3 at h = 1.3 dx) and unclipped they
@@ -155,7 +155,7 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
                          drhow, pw):
     """drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf and p_b = EOS(rho_b).
 
-    Seed 004 "ContinuityDensity"; seed 000 eq. 8 written for wall particle b.
+    [TrixiBoundary] "ContinuityDensity"; [Li2022] eq. 8 written for wall particle b.
     """
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
@@ -188,11 +188,11 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     """Add the dummy wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
     continuity:  drho_i += m_b (v_i - v_b) . grad_i W_ib, v_b the wall's own velocity
-                 (Adami et al. 2012, eq. 24 form; seed 000 eq. 8 with b a wall particle)
-    momentum:    dv_i -= m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib    (seed 000 eq. 5)
-                 with p_b = p_i, rho_b = rho0 when ``mirror`` (seed 004, PressureMirroring)
+                 (Adami et al. 2012, eq. 24 form; [Li2022] eq. 8 with b a wall particle)
+    momentum:    dv_i -= m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib    ([Li2022] eq. 5)
+                 with p_b = p_i, rho_b = rho0 when ``mirror`` ([TrixiBoundary], PressureMirroring)
     no slip:     dv_i += m_b nu (rho_i + rho_b)/(rho_i rho_b) (v_i - v_w) (r_ib . grad W)/(r^2 + eta^2)
-                 when wall_nu > 0 (seed 003 eq. 9 form with the Adami wall velocity v_w = wall.v_visc)
+                 when wall_nu > 0 ([Liu2015] eq. 9 form with the Adami wall velocity v_w = wall.v_visc)
 
     ``cells`` is the wall's CellView with its reach mask: fluid particles in other cells are skipped.
     """
@@ -270,27 +270,27 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
 
 
 class DummyParticles(WallModel):
-    """Dummy-particle wall with one of the five density calculators of seed 004.
+    """Dummy-particle wall with one of the five density calculators of [TrixiBoundary].
 
     Parameters
     ----------
     density : {"adami", "summation", "continuity", "zeroing", "mirroring"}
         How the wall particles' pressure and density are found (default
-        ``adami``, the one seed 004 recommends).
+        ``adami``, the one [TrixiBoundary] recommends).
     slip : {"free", "noslip"}
         Free slip (default, no viscous wall term) or no slip through the
         Adami wall velocity 2 v_wall - (Shepard average of fluid velocity).
     nu : float, optional
         Kinematic viscosity of the no-slip wall term [m^2/s]; default: the
         fluid's laminar nu, else alpha h c0 / (2d + 4) from its artificial
-        viscosity (seed 004).
+        viscosity ([TrixiBoundary]).
     clip_negative_pressure : bool, optional
         Clip negative wall pressure to the background pressure. Default: off
-        for ``adami`` (as in seed 004), on for ``summation`` (see
+        for ``adami`` (as in [TrixiBoundary]), on for ``summation`` (see
         :func:`wall_summation_density` for why); ignored by the others.
     eos : seawall.Tait | seawall.Linear, optional
         Equation of state of the wall particles (density <-> pressure);
-        default: the fluid's (seed 004: "inherited from the fluid unless given").
+        default: the fluid's ([TrixiBoundary]: "inherited from the fluid unless given").
     kernel : seawall kernel, optional
         Kernel of the fluid-wall interaction; default: the fluid's.
     smoothing_length : float, optional
@@ -300,11 +300,11 @@ class DummyParticles(WallModel):
     """
 
     #: pairwise_momentum (see WallModel): one symmetric pressure term
-    #: m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib (seed 000 eq. 5) and viscous pair term per
+    #: m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib ([Li2022] eq. 5) and viscous pair term per
     #: wall particle b, with b's state set in update; central. With pressure mirroring p_b is
     #: i's own pressure: still one term per pair.
     pairwise_momentum = True
-    #: the wall's hydrodynamic masses count in a summation-density fluid (seed 004)
+    #: the wall's hydrodynamic masses count in a summation-density fluid ([TrixiBoundary])
     joins_summation_density = True
 
     @property

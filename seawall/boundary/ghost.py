@@ -1,6 +1,6 @@
-"""Fixed ghost particles with mirror-point interpolation (seed 001, Huang et al. 2019).
+"""Fixed ghost particles with mirror-point interpolation ([Huang2019], Huang et al. 2019).
 
-The wall is a set of fixed particles in layers outside the fluid (seed 001
+The wall is a set of fixed particles in layers outside the fluid ([Huang2019]
 sec. 2.2, Fig. 1). Each ghost particle G at x_G has a mirror (interpolation)
 point x_M, its reflection across the wall surface along the wall normal:
 
@@ -14,7 +14,7 @@ wall (see :func:`mirror_diagnostics`).
 Before each evaluation of the fluid's rates (``update``) the fluid state is
 interpolated at x_M by one of the methods of
 :mod:`seawall.boundary.interpolation` and copied to G with the laws of
-mirror (seed 001 sec. 2.2):
+mirror ([Huang2019] sec. 2.2):
 
 * pressure, Neumann condition dp/dn = rho (g - a_w) . n (sec. 2.2) integrated
   along the segment from x_M to x_G:
@@ -35,14 +35,14 @@ mirror (seed 001 sec. 2.2):
 
 ``interact`` adds the ghosts' terms to the fluid's rates; ghost particles
 enter the fluid's equations as ordinary neighbours (Marrone et al. 2011,
-seed 001 sec. 2.1) with their mirrored state:
+[Huang2019] sec. 2.1) with their mirrored state:
 
     drho_i/dt += m_G (v_i - v_G) . grad_i W_iG
     dv_i/dt   -= m_G (p_i/rho_i^2 + p_G/rho_G^2 + Pi_iG) grad_i W_iG   (+ laminar term)
 
-with the fluid's artificial viscosity Pi (seed 000 eq. 6; on every pair, as
+with the fluid's artificial viscosity Pi ([Li2022] eq. 6; on every pair, as
 between fluid particles, when the fluid's ``ArtificialViscosity(all_pairs=True)``,
-seed 001 eq. 5) and laminar viscosity (seed 003 eq. 9). The density-diffusion term is not applied
+[Huang2019] eq. 5) and laminar viscosity ([Liu2015] eq. 9). The density-diffusion term is not applied
 across the wall (ghost densities include the hydrostatic jump, and the
 renormalised gradient is not available at ghosts).
 """
@@ -66,7 +66,7 @@ SLIP_MODES = ("free", "noslip")
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm, noslip, pg, rhog, vg):
-    """Laws of mirror (seed 001 sec. 2.2): ghost p, rho, v from the values interpolated at the mirror points.
+    """Laws of mirror ([Huang2019] sec. 2.2): ghost p, rho, v from the values interpolated at the mirror points.
 
     ``interp[:, 0]`` is the pressure, ``interp[:, 1:]`` the velocity at x_M.
     A ghost whose mirror point has no fluid neighbour gets the background
@@ -195,7 +195,7 @@ def ghost_forces(fluid, wall, cells, prm, terms, rates):
 
 
 def mirror_points(surface_points, positions):
-    """Mirror (interpolation) points 2 s - x of wall particles (seed 001 sec. 2.2, Fig. 1)."""
+    """Mirror (interpolation) points 2 s - x of wall particles ([Huang2019] sec. 2.2, Fig. 1)."""
     return 2.0 * np.asarray(surface_points, dtype=np.float64) - np.asarray(positions, dtype=np.float64)
 
 
@@ -247,7 +247,7 @@ def export_ghost_vtu(wall, directory):
 
 
 class GhostParticles(WallModel):
-    """Fixed ghost particles whose state is mirrored from interpolation points (seed 001).
+    """Fixed ghost particles whose state is mirrored from interpolation points ([Huang2019]).
 
     Parameters
     ----------
@@ -261,10 +261,10 @@ class GhostParticles(WallModel):
     """
 
     #: pairwise_momentum (see WallModel): the ghosts' state is interpolated in update; the
-    #: push is then one symmetric pressure (seed 000 eq. 5 form) and viscous pair term per
-    #: ghost; central. The wall force of seed 001 eq. 29 is the sum of their reactions.
+    #: push is then one symmetric pressure ([Li2022] eq. 5 form) and viscous pair term per
+    #: ghost; central. The wall force of [Huang2019] eq. 29 is the sum of their reactions.
     pairwise_momentum = True
-    #: ghosts are ordinary neighbours with their mirrored state (seed 001 sec. 2.1), with the fluid's
+    #: ghosts are ordinary neighbours with their mirrored state ([Huang2019] sec. 2.1), with the fluid's
     #: viscosities; no density diffusion across the wall (see the module doc)
     fluid_terms = frozenset({"continuity", "pressure", "artificial_viscosity", "laminar_viscosity"})
     #: the ghosts' hydrodynamic masses count in a summation-density fluid

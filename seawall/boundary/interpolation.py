@@ -1,13 +1,13 @@
 """Interpolation of fluid fields at arbitrary points (the mirror points of ghost walls).
 
-Seed 001 (Huang et al. 2019, sec. 3) compares five ways to evaluate the fluid
+[Huang2019] (Huang et al. 2019, sec. 3) compares five ways to evaluate the fluid
 state at the interpolation ("mirror") point of a fixed ghost particle. All
 five are implemented here as compiled per-point functions that gather over
 the fluid's cell list (no neighbour lists, no ghost x fluid matrices), behind
 interchangeable description objects:
 
 ============================  =====================  ===========================
-object                        seed 001               reproduces exactly
+object                        [Huang2019]               reproduces exactly
 ============================  =====================  ===========================
 ``MLS(order=1)``              sec. 3.1, eq. 8-9      linear fields
 ``MLS(order=2)``              sec. 3.1               quadratic fields
@@ -75,7 +75,7 @@ PIVOT_TOL = 1e-6
 # ---------------------------------------------------------------- helpers
 @njit(cache=True, inline="always")
 def shepard_beta(q, lam):
-    """beta(q) = exp(-q^2 / (1 - q^lambda)) for 0 <= q < 1, else 0 (seed 001 eq. 20, q = r/R)."""
+    """beta(q) = exp(-q^2 / (1 - q^lambda)) for 0 <= q < 1, else 0 ([Huang2019] eq. 20, q = r/R)."""
     if q >= 1.0:
         return 0.0
     return math.exp(-q * q / (1.0 - q ** lam))
@@ -94,7 +94,7 @@ def shepard_weight_q2(q2, mu, lam):
 
 @njit(cache=True, inline="always")
 def shepard_weight(q, mu, lam):
-    """Unnormalised improved Shepard weight phi(q)^mu, phi = beta(q)/q (seed 001 eq. 19-20)."""
+    """Unnormalised improved Shepard weight phi(q)^mu, phi = beta(q)/q ([Huang2019] eq. 19-20)."""
     return shepard_weight_q2(q * q, mu, lam)
 
 
@@ -145,7 +145,7 @@ def solve_first_column(M, m, a):
 # ---------------------------------------------------------------- per-point methods
 @njit(cache=True)
 def normalised_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo, inv_cell, ncell, period, prm, out, k):
-    """Normalised (corrected-kernel) interpolation, seed 001 sec. 3.3 eq. 14-16:
+    """Normalised (corrected-kernel) interpolation, [Huang2019] sec. 3.3 eq. 14-16:
 
         f(x0) = sum_j f_j W_j V_j / sum_j W_j V_j
     """
@@ -184,7 +184,7 @@ def normalised_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo, inv_
 @njit(cache=True)
 def improved_shepard_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo, inv_cell, ncell, period, prm,
                            mu, lam, out, k):
-    """Improved Shepard interpolation, seed 001 sec. 3.4 eq. 17-21:
+    """Improved Shepard interpolation, [Huang2019] sec. 3.4 eq. 17-21:
 
         f(x0) = sum_j phi_j^mu f_j / sum_j phi_j^mu,  phi_j = beta(r_j / R) / (r_j / R),
         beta(q) = exp(-q^2 / (1 - q^lambda)) (q < 1), 0 otherwise;
@@ -234,7 +234,7 @@ def improved_shepard_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo
 @njit(cache=True)
 def mls_point(layout, quadratic, limit, p0, p1, p2, xf, fields, vol, start, order, lo, inv_cell, ncell, period,
               prm, out, k):
-    """Moving least squares, seed 001 sec. 3.1 eq. 8-9 (Colagrossi & Landrini 2003):
+    """Moving least squares, [Huang2019] sec. 3.1 eq. 8-9 (Colagrossi & Landrini 2003):
 
         f(x0) = sum_j f_j W^MLS_j V_j,  W^MLS_j = (M^-1 e_1) . b_j W_j,
         M = sum_j b_j b_j^T W_j V_j,  b_j = [1, (x_j - x0)/h, ...] (+ quadratic terms).
@@ -336,7 +336,7 @@ def mls_point(layout, quadratic, limit, p0, p1, p2, xf, fields, vol, start, orde
 @njit(cache=True)
 def sfdi_point(layout, diagonal, limit, p0, p1, p2, xf, fields, vol, start, order, lo, inv_cell, ncell, period, prm,
                out, k):
-    """Simplified finite difference interpolation, seed 001 sec. 3.2 eq. 10-13 (Ma 2008):
+    """Simplified finite difference interpolation, [Huang2019] sec. 3.2 eq. 10-13 (Ma 2008):
 
         f(x0) = sum_j w_j f_j / sum_j w_j - grad f(x_i) . R_0,
         R_0 = sum_j (x_j - x0) w_j / sum_j w_j,   w_j = W(|x_j - x0|),
@@ -543,7 +543,7 @@ class Interpolation:
 
 
 class MLS(Interpolation):
-    """Moving least squares with a linear (``order=1``) or quadratic (``order=2``) basis (seed 001 sec. 3.1)."""
+    """Moving least squares with a linear (``order=1``) or quadratic (``order=2``) basis ([Huang2019] sec. 3.1)."""
 
     def __init__(self, order=1, limit=True):
         self.limit = bool(limit)
@@ -559,7 +559,7 @@ class MLS(Interpolation):
 
 
 class SFDI(Interpolation):
-    """Simplified finite difference interpolation (seed 001 sec. 3.2, Ma 2008).
+    """Simplified finite difference interpolation ([Huang2019] sec. 3.2, Ma 2008).
 
     ``diagonal=True`` is the literal form of the seed (diagonal normalisation
     n_{i,xk}); the default solves the d x d gradient system and is exact for
@@ -582,7 +582,7 @@ class SFDI(Interpolation):
 
 
 class Normalised(Interpolation):
-    """Normalised kernel (Shepard) interpolation sum f W V / sum W V (seed 001 sec. 3.3)."""
+    """Normalised kernel (Shepard) interpolation sum f W V / sum W V ([Huang2019] sec. 3.3)."""
 
     kind = NORMALISED
     name = "normalized"
@@ -590,12 +590,12 @@ class Normalised(Interpolation):
 
 
 class ImprovedShepard(Interpolation):
-    """Improved Shepard interpolation (seed 001 sec. 3.4), compactly supported on the kernel support R.
+    """Improved Shepard interpolation ([Huang2019] sec. 3.4), compactly supported on the kernel support R.
 
     Parameters
     ----------
     mu : float
-        Power parameter, 4 in seed 001 (continuity of the weights' derivatives).
+        Power parameter, 4 in [Huang2019] (continuity of the weights' derivatives).
     lam : float
         Adjustment index lambda of beta(q) = exp(-q^2 / (1 - q^lambda)); the
         seed gives no value, default 2 (larger lambda: flatter, sharper cut).

@@ -1,8 +1,8 @@
-"""Boundary force of Liu, Shao & Chang (2012), a baseline of seed 003.
+"""Boundary force of Liu, Shao & Chang (2012), a baseline of [Liu2015].
 
 Liu M.B., Shao J.R., Chang J.Z. (2012), "On the treatment of solid boundary
 in smoothed particle hydrodynamics", Sci. China Technol. Sci. 55, 244-254
-(seed 003 ref. [9]). Seed 003 describes it (sec. 1 and 4.4) but does not
+([Liu2015] ref. [9]). [Liu2015] describes it (sec. 1 and 4.4) but does not
 print it: a single row of boundary particles, spaced finer than the fluid
 (1.5 mm against 2.92 mm in its dam break), each pushing a fluid particle
 along the line joining them with a strength that depends only on their
@@ -20,7 +20,7 @@ distance. The force used here is the one of Liu et al. (2012):
 It was written down from the publication, which is not among the seeds, so
 docs/liu2015.md records it as such. The boundary particles carry no density
 or pressure and do not enter the continuity equation; there is no viscous
-wall term (free slip), as in seed 003's dam break.
+wall term (free slip), as in [Liu2015]'s dam break.
 """
 
 import numpy as np
@@ -98,7 +98,7 @@ class Liu2012Force(WallModel):
     Parameters
     ----------
     beta : float
-        Fluid spacing / boundary-particle spacing, default 2 (seed 003's dam
+        Fluid spacing / boundary-particle spacing, default 2 ([Liu2015]'s dam
         break: 2.92 mm fluid, 1.5 mm boundary particles).
     c : float, optional
         The speed c of the force scale 0.01 c^2 [m/s]; default the fluid's c0.

@@ -1,12 +1,12 @@
-"""The dummy-particle wall of Liu, Qiang, Chen, Han & Fan (2015), seed 003 sec. 3.
+"""The dummy-particle wall of Liu, Qiang, Chen, Han & Fan (2015), [Liu2015] sec. 3.
 
 Three to four layers of dummy particles continue the fluid's lattice behind
 the wall (the wall surface lies half a spacing in front of the first layer).
-Their density is constant (rho_b = rho0, seed 003 sec. 3.2); their pressure
+Their density is constant (rho_b = rho0, [Liu2015] sec. 3.2); their pressure
 and velocity are interpolated from the fluid every evaluation; they act on
 the fluid only conditionally:
 
-* continuity (seed 003 eq. 21): the wall changes a fluid particle's density
+* continuity ([Liu2015] eq. 21): the wall changes a fluid particle's density
   only through the *normal* relative motion,
 
       (drho_i/dt)_b = m_b [(v_ib . n_b) n_b] . grad_i W_ib,
@@ -15,11 +15,11 @@ the fluid only conditionally:
   extracted eq. 21 reads "m_b v_ib . grad W if v_ib . n_b != 0, else 0"; see
   docs/liu2015.md for why the projected form is used, and
   ``continuity="conditional"`` for the literal one);
-* momentum (seed 003 eq. 22): a purely normal, purely repulsive push,
+* momentum ([Liu2015] eq. 22): a purely normal, purely repulsive push,
 
       (dv_i/dt)_b = -m_b (P_i + P_b) / (rho_i rho_b) (n_b . grad_i W_ib) n_b   if P_i + P_b > 0, else 0;
 
-* dummy pressure (seed 003 eq. 23-27): each fluid neighbour j gives a Taylor
+* dummy pressure ([Liu2015] eq. 23-27): each fluid neighbour j gives a Taylor
   estimate of the pressure at b with the normal gradient of eq. 25,
 
       <P_b>_j = P_j + rho_j c_s (v_j - v_w) . n_out + rho_j (g - a_b) . (r_b - r_j)      (eq. 26)
@@ -60,7 +60,7 @@ CONTINUITY_MODES = ("normal", "conditional", "off")
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, order, lo, inv_cell, ncell, period,
                        prm, noslip, surface_moves, pw, vb, vbn):
-    """Dummy pressure by eq. 26-27 and dummy velocity by eq. 28-29 of seed 003 for every wall particle.
+    """Dummy pressure by eq. 26-27 and dummy velocity by eq. 28-29 of [Liu2015] for every wall particle.
 
     ``nw`` are the wall normals pointing into the fluid; eq. 26's normal points
     out of the fluid, hence the minus sign of the c_s term here. ``vbn`` gets
@@ -127,7 +127,7 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def liu2015_wall_forces(fluid, wall, vbn, rho_b, cells, prm, continuity_mode, wall_nu, dv, drho):
-    """Add seed 003 eq. 21 (density), eq. 22 (pressure) and, with ``wall_nu`` > 0, the eq. 9 viscous term.
+    """Add [Liu2015] eq. 21 (density), eq. 22 (pressure) and, with ``wall_nu`` > 0, the eq. 9 viscous term.
 
     ``wall.v`` holds the dummy velocities v_b, ``vbn`` their normal components (eq. 21);
     continuity_mode: 0 = normal projection, 1 = literal conditional form, 2 = none.
@@ -212,7 +212,7 @@ def liu2015_wall_forces(fluid, wall, vbn, rho_b, cells, prm, continuity_mode, wa
 
 
 class Liu2015Wall(WallModel):
-    """Dummy-particle wall of Liu et al. (2015), seed 003 sec. 3 (eq. 21-29).
+    """Dummy-particle wall of Liu et al. (2015), [Liu2015] sec. 3 (eq. 21-29).
 
     Parameters
     ----------
@@ -236,7 +236,7 @@ class Liu2015Wall(WallModel):
     carry them). The wall density is rho0 (constant) and its mass rho0 dx^d.
     """
 
-    #: pairwise_momentum (see WallModel): one term per dummy particle (seed 003 eq. 22), but
+    #: pairwise_momentum (see WallModel): one term per dummy particle ([Liu2015] eq. 22), but
     #: along the dummy's normal n_b, not r_ib: linear momentum is conserved pair by pair,
     #: angular momentum is not.
     pairwise_momentum = True

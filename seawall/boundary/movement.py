@@ -1,8 +1,8 @@
-"""Prescribed motion of wall particles (seed 004, "BoundaryMovement"; PrescribedMotion today).
+"""Prescribed motion of wall particles ([TrixiBoundary], "BoundaryMovement"; PrescribedMotion today).
 
 ``PrescribedMotion(movement_function, is_moving)`` moves the chosen wall
 particles to x(t) = x0 + f(t), where ``movement_function`` f returns a
-d-vector (seed 004). Their velocity f'(t) and acceleration f''(t) -- which
+d-vector ([TrixiBoundary]). Their velocity f'(t) and acceleration f''(t) -- which
 the Adami extrapolation needs (the term rho_f (g - a_b) . r_bf) -- come from
 the ``velocity`` and ``acceleration`` functions when given, otherwise from
 central differences of f with step 1e-5 (relative error ~1e-10 for smooth f

@@ -25,7 +25,7 @@ def _dummy(density, default_slip="free"):
 
 
 def _ghost(make):
-    """Factory of a ghost-particle wall (seed 001) with interpolation ``make(**options)``; ``slip=free|noslip``.
+    """Factory of a ghost-particle wall ([Huang2019]) with interpolation ``make(**options)``; ``slip=free|noslip``.
 
     The factory takes ``slip`` and the keywords of ``make``.
     """
@@ -115,23 +115,23 @@ BOUNDARIES = {
     "zeroing": (_dummy("zeroing"), "dummy particles at reference density and pressure (pressure zeroing)"),
     "mirroring": (_dummy("mirroring"), "dummy particles mirroring the fluid particle's pressure (pressure mirroring)"),
     "ghost-mls1": (_ghost(lambda: MLS(1)),
-                   "fixed ghost particles, MLS linear interpolation at mirror points (seed 001); slip=free|noslip"),
+                   "fixed ghost particles, MLS linear interpolation at mirror points ([Huang2019]); slip=free|noslip"),
     "ghost-mls2": (_ghost(lambda: MLS(2)),
-                   "fixed ghost particles, MLS quadratic interpolation at mirror points (seed 001); slip=free|noslip"),
+                   "fixed ghost particles, MLS quadratic interpolation at mirror points ([Huang2019]); slip=free|noslip"),
     "ghost-sfdi": (_ghost(_sfdi),
-                   "fixed ghost particles, SFDI interpolation (Ma 2008, seed 001); slip=free|noslip, sfdi_diagonal"),
+                   "fixed ghost particles, SFDI interpolation (Ma 2008, [Huang2019]); slip=free|noslip, sfdi_diagonal"),
     "ghost-normalized": (_ghost(lambda: Normalised()),
-                         "fixed ghost particles, normalised (Shepard kernel) interpolation (seed 001); slip=free|noslip"),
+                         "fixed ghost particles, normalised (Shepard kernel) interpolation ([Huang2019]); slip=free|noslip"),
     "ghost-shepard": (_ghost(_shepard),
-                      "fixed ghost particles, improved Shepard interpolation (seed 001); slip, shepard_mu, shepard_lambda"),
+                      "fixed ghost particles, improved Shepard interpolation ([Huang2019]); slip, shepard_mu, shepard_lambda"),
     "monaghan-kajtar": (_monaghan_kajtar, "repulsive wall particles, Monaghan & Kajtar (2009), one row at dx/beta "
                         "(--set K=... beta=3 alpha_wall=0)"),
     "dbc": (_dynamic(DynamicBoundary),
-            "dynamic boundary particles, Crespo et al. (2007): continuity + linear EOS (seed 000 eq. 12)"),
+            "dynamic boundary particles, Crespo et al. (2007): continuity + linear EOS ([Li2022] eq. 12)"),
     "idbc": (_dynamic(ImprovedDynamicBoundary),
-             "improved DBC, Li et al. (seed 000): order-7 EOS, rectangular support, alpha_DB "
+             "improved DBC, Li et al. ([Li2022]): order-7 EOS, rectangular support, alpha_DB "
              "(--set order=1..7 rectangular=0/1 correction=0/1 alpha_wall=...)"),
-    "liu2015": (_liu2015(), "dummy particles of Liu et al. (2015, seed 003): normal-only repulsive pressure term, "
+    "liu2015": (_liu2015(), "dummy particles of Liu et al. (2015, [Liu2015]): normal-only repulsive pressure term, "
                 "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off)"),
     "liu2015-noslip": (_liu2015("noslip"), "Liu et al. (2015) dummy particles with no slip (eq. 28-29)"),
     "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2)"),

@@ -1,8 +1,8 @@
-"""Repulsive-particle walls: Monaghan & Kajtar (2009), as seed 004 writes it.
+"""Repulsive-particle walls: Monaghan & Kajtar (2009), as [TrixiBoundary] writes it.
 
 The wall is one row of particles on the wall surface, spaced d = dx / beta.
 Each pushes a fluid particle a within reach along r_ab = r_a - r_b with the
-acceleration (seed 004, "Repulsive Particles"; Monaghan & Kajtar 2009 eq. 3.1)
+acceleration ([TrixiBoundary], "Repulsive Particles"; Monaghan & Kajtar 2009 eq. 3.1)
 
     f~_ab = K / beta^(n-1) * r_ab / (|r_ab| (|r_ab| - d)) * Phi(|r_ab|, h) * 2 m_b / (m_a + m_b)
 
@@ -48,7 +48,7 @@ def wendland_c4_1d(q):
 
 @njit(cache=True, inline="always")
 def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b):
-    """The scalar s with f~_ab = s r_ab (seed 004); the distance in (|r| - d) floored at 1.01 d."""
+    """The scalar s with f~_ab = s r_ab ([TrixiBoundary]); the distance in (|r| - d) floored at 1.01 d."""
     rr = r if r > 1.01 * d else 1.01 * d
     return K / beta ** (dim - 1) / (r * (rr - d)) * wendland_c4_1d(r / h) * 2.0 * m_b / (m_a + m_b)
 
@@ -67,7 +67,7 @@ def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
     """Add the Monaghan-Kajtar wall acceleration (and optional viscosity) to the fluid's dv.
 
     The viscosity is the pair's Monaghan term with rho_b = rho_a and c_ab = c_a
-    (:func:`seawall.pairs.monaghan_viscosity`, seed 000 eq. 6), alpha = ``rep.alpha_wall``.
+    (:func:`seawall.pairs.monaghan_viscosity`, [Li2022] eq. 6), alpha = ``rep.alpha_wall``.
     """
     layout = cells.layout
     xf = fluid.x
@@ -130,7 +130,7 @@ def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
 
 
 class MonaghanKajtar(WallModel):
-    """Repulsive wall particles of Monaghan & Kajtar (2009), seed 004.
+    """Repulsive wall particles of Monaghan & Kajtar (2009), [TrixiBoundary].
 
     Parameters
     ----------

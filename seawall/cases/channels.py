@@ -2,7 +2,7 @@
 
 ``channel``: water between two no-slip plates y = 0 and y = H, fed through
 an inflow zone at x = 0 and leaving through an outflow zone at x = L
-(seed 004 InFlow / OutFlow with the Lastiwka model). The fluid starts at
+([TrixiBoundary] InFlow / OutFlow with the Lastiwka model). The fluid starts at
 rest; the reference flow of both zones is the analytic plane Poiseuille
 flow, u(y) = 4 U y (H - y) / H^2 with the pressure p(x) = G (L - x),
 G = 8 mu U / H^2 (the pressure gradient that sustains it), so the zones

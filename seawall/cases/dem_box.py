@@ -57,7 +57,7 @@ def build_dem_box(params, wall_model, threads):
 
 DEM_BOX = Case(
     name="dem-box",
-    description="DEM discs (spheres in 3D) fall into a box of DEM wall particles and come to rest (seed 004 DEM walls)",
+    description="DEM discs (spheres in 3D) fall into a box of DEM wall particles and come to rest ([TrixiBoundary] DEM walls)",
     builder=build_dem_box,
     parameters={
         "dimension": Parameter(2, "2 (discs) or 3 (spheres)", int),

@@ -6,7 +6,7 @@
   Couette with U = 2.5e-5 m/s). The walls are the case's wall model: use a
   no-slip one, e.g. ``--boundary adami-noslip`` (with free slip there is no
   shear at the wall and the flow is a plug). Laminar viscosity (Morris form,
-  seed 003 eq. 9), linear EOS, no artificial viscosity or density diffusion.
+  [Liu2015] eq. 9), linear EOS, no artificial viscosity or density diffusion.
   Speed of sound from Morris et al. (1997) sec. 2.4: c0^2 = max(U^2, nu U / L,
   F L) / delta with a density variation delta = 1 %.
 * ``taylor-green`` -- the 2D Taylor-Green vortex on the periodic unit square,

@@ -1,4 +1,4 @@
-"""The test cases of seed 000 sec. 4 (Li, Zhang & Yuan): one particle in a box, a drop impact, break-through.
+"""The test cases of [Li2022] sec. 4 (Li, Zhang & Yuan): one particle in a box, a drop impact, break-through.
 
 Fluid settings of the seed (sec. 2): cubic spline, Tait EOS with gamma = 7
 and rho0 = 998.1 kg/m^3, artificial viscosity (alpha for fluid-fluid pairs;
@@ -37,7 +37,7 @@ from ..shapes import Shape, ball, tank
 from ..simulation import Simulation
 from .base import GRAVITY, Case, Parameter
 
-RHO0_SEED = 998.1  # seed 000 sec. 2, water at 20 degC
+RHO0_SEED = 998.1  # [Li2022] sec. 2, water at 20 degC
 
 
 class ParticleCoordinate(_probes.Probe):
@@ -55,7 +55,7 @@ class ParticleCoordinate(_probes.Probe):
 
 
 def f_sym(x, y, dx):
-    """Symmetry coefficient of seed 000 eq. 29 with coordinates in units of dx.
+    """Symmetry coefficient of [Li2022] eq. 29 with coordinates in units of dx.
 
     f_sym = sqrt(f_x^2 + f_y^2) / N,  f_x = sum xi^3,  f_y = sum xi eta^2,
     xi = x / dx measured from the drop's axis, eta = y / dx from the wall row.
@@ -72,7 +72,7 @@ def f_sym(x, y, dx):
 
 
 class SymmetryProbe(_probes.Probe):
-    """f_sym of seed 000 eq. 29 about the axis x = ``axis_x`` above the wall row y = ``wall_y``."""
+    """f_sym of [Li2022] eq. 29 about the axis x = ``axis_x`` above the wall row y = ``wall_y``."""
 
     def __init__(self, name, axis_x, wall_y, dx):
         super().__init__(name)
@@ -90,7 +90,7 @@ class ThroughWallProbe(_probes.Probe):
 
     Counts the particles more than ``depth`` below the row within |x| <
     ``half`` (away from the row's ends) plus those that left the domain
-    there (seed 000 sec. 4.2: particles that escape the wall). A particle
+    there ([Li2022] sec. 4.2: particles that escape the wall). A particle
     that dips below the row and is pushed back counts only while it is
     below; ``ids`` remembers every particle ever seen below.
     """
@@ -136,7 +136,7 @@ def _seed_fluid(shape, *, c0, alpha, velocity):
 
 # ---------------------------------------------------------------- particle in a box
 def build_particle_in_box(params, wall_model, threads):
-    """One particle in a square box with single-row walls on its four sides (seed 000 sec. 4.1)."""
+    """One particle in a square box with single-row walls on its four sides ([Li2022] sec. 4.1)."""
     dx = require_positive("dx", params["dx"])
     h = require_positive("h", params["h_factor"] * dx)
     L = require_positive("L", params["L"])
@@ -171,7 +171,7 @@ def _box_period(L, x0, y0, u, v):
 
 PARTICLE_IN_BOX = Case(
     name="particle-in-box",
-    description="one particle in a 60 m box at 45 degrees, c = 1460 m/s (seed 000 sec. 4.1): trajectory, energy",
+    description="one particle in a 60 m box at 45 degrees, c = 1460 m/s ([Li2022] sec. 4.1): trajectory, energy",
     builder=build_particle_in_box,
     parameters={
         "dx": Parameter(1.0, "wall particle spacing (and fluid spacing) [m]"),
@@ -206,7 +206,7 @@ def drop_wall(dx, half_length, shift, layers=1):
 
 
 def build_drop_impact(params, wall_model, threads):
-    """A 2D drop falling on a wall row (seed 000 sec. 4.2)."""
+    """A 2D drop falling on a wall row ([Li2022] sec. 4.2)."""
     dx = require_positive("dx", params["dx"])
     h = require_positive("h", params["h_factor"] * dx)
     R = require_positive("radius", params["radius"])
@@ -236,7 +236,7 @@ def build_drop_impact(params, wall_model, threads):
 
 DROP_IMPACT = Case(
     name="drop-impact",
-    description="2D drop (R = 1 mm, 2 m/s) on a wall row, symmetric or shifted 0.3 dx (seed 000 sec. 4.2): f_sym",
+    description="2D drop (R = 1 mm, 2 m/s) on a wall row, symmetric or shifted 0.3 dx ([Li2022] sec. 4.2): f_sym",
     builder=build_drop_impact,
     parameters={
         "dx": Parameter(0.2e-3, "particle spacing [m]"),

@@ -1,14 +1,14 @@
-"""The lid-driven cavity (seed 003 sec. 4.2; Ghia, Ghia & Shin 1982 for Re >= 100).
+"""The lid-driven cavity ([Liu2015] sec. 4.2; Ghia, Ghia & Shin 1982 for Re >= 100).
 
 A square cavity of side L closed by no-slip walls; the top wall (the lid,
 its whole row of wall particles including the corner columns) slides along
-+x with speed U. Re = U L / nu. Seed 003 runs Re = 1 with L = 1 mm, U = 1 mm/s,
++x with speed U. Re = U L / nu. [Liu2015] runs Re = 1 with L = 1 mm, U = 1 mm/s,
 dx = 2e-5 m (L/50), h = 1.2 dx; the defaults here are the seed's, with
 Re = 100 and 1000 reached through ``reynolds`` (nu = U L / Re).
 
 Two fluids (parameter ``fluid``):
 
-* ``standard`` (default): laminar viscosity (Morris et al. 1997, seed 003
+* ``standard`` (default): laminar viscosity (Morris et al. 1997, [Liu2015]
   eq. 9), linear EOS, delta-SPH (delta = 0.1), no artificial viscosity,
   symplectic integrator, no gravity;
 * ``liu2015``: the seed's own fluid of sec. 2 (Tait EOS, laminar plus
@@ -132,7 +132,7 @@ def centrelines(sim, s, s_horizontal=None):
 CAVITY = Case(
     name="cavity",
     default_boundary="adami-noslip",
-    description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 (seed 003 sec. 4.2; --set reynolds=100/1000 for "
+    description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 ([Liu2015] sec. 4.2; --set reynolds=100/1000 for "
                 "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default",
     builder=build_cavity,
     parameters={
@@ -140,17 +140,17 @@ CAVITY = Case(
         "side": Parameter(1e-3, "side L of the square cavity [m]"),
         "lid_speed": Parameter(1e-3, "lid speed U [m/s]"),
         "reynolds": Parameter(1.0, "Reynolds number U L / nu"),
-        "h_factor": Parameter(1.2, "smoothing length / dx (seed 003: 1.2)"),
+        "h_factor": Parameter(1.2, "smoothing length / dx ([Liu2015]: 1.2)"),
         "rho0": Parameter(1000.0, "reference density [kg/m^3]"),
         "c0": Parameter(None, "speed of sound [m/s] (default 10 U max(1, Re^-1/2))"),
-        "fluid": Parameter("standard", "fluid scheme: standard (linear EOS, symplectic) or liu2015 (seed 003 sec. 2)",
+        "fluid": Parameter("standard", "fluid scheme: standard (linear EOS, symplectic) or liu2015 ([Liu2015] sec. 2)",
                            str),
         "background": Parameter(None, "background pressure / (rho0 c0^2) (default 0.05 standard, 0 liu2015)"),
         "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
-        "alpha": Parameter(0.02, "artificial viscosity alpha of the liu2015 fluid (seed 003 eq. 11; 0 = off)"),
+        "alpha": Parameter(0.02, "artificial viscosity alpha of the liu2015 fluid ([Liu2015] eq. 11; 0 = off)"),
         "cfl": Parameter(0.2, "CFL number of the standard fluid (the viscous limit 0.125 h^2/nu applies too)"),
         "dt": Parameter(0.0, "fixed time step [s] of the liu2015 fluid (0 = its adaptive rule, eq. 18-20)"),
-        "layers": Parameter(None, "wall layers (default: enough to fill the kernel support; seed 003 uses 4)",
+        "layers": Parameter(None, "wall layers (default: enough to fill the kernel support; [Liu2015] uses 4)",
                             int),
     },
     t_end=0.5, probe_every=0.01, output_every=0.05)

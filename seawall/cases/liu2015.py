@@ -1,4 +1,4 @@
-"""The test cases of Liu et al. (2015), seed 003 sec. 4, with the fluid of its sec. 2 (preset ``liu2015``).
+"""The test cases of Liu et al. (2015), [Liu2015] sec. 4, with the fluid of its sec. 2 (preset ``liu2015``).
 
 * ``plates`` (sec. 4.1): a 0.04 x 0.04 m water block moving down at 1 m/s
   between two vertical plates 0.05 m long, 5 mm above their lower edge; no
@@ -34,11 +34,11 @@ from .tanks import _gravity, _hydrostatic, snap
 RHO0 = 1000.0
 
 FLUID = {
-    "alpha": Parameter(0.02, "artificial viscosity alpha (seed 003 eq. 11)"),
-    "delta": Parameter(0.1, "delta-SPH coefficient (seed 003 eq. 12; 0 = off)"),
-    "nu": Parameter(1e-6, "kinematic viscosity [m^2/s] of the laminar term (seed 003 eq. 9)"),
+    "alpha": Parameter(0.02, "artificial viscosity alpha ([Liu2015] eq. 11)"),
+    "delta": Parameter(0.1, "delta-SPH coefficient ([Liu2015] eq. 12; 0 = off)"),
+    "nu": Parameter(1e-6, "kinematic viscosity [m^2/s] of the laminar term ([Liu2015] eq. 9)"),
     "c0": Parameter(None, "speed of sound c_s [m/s]"),
-    "dt": Parameter(0.0, "fixed time step [s] (0 = the adaptive rule of seed 003 eq. 18-20)"),
+    "dt": Parameter(0.0, "fixed time step [s] (0 = the adaptive rule of [Liu2015] eq. 18-20)"),
 }
 
 
@@ -112,7 +112,7 @@ def _plate(x_surface, y0, y1, dx, layers, side, layout, beta):
 
 
 def build_plates(params, wall_model, threads):
-    """Seed 003 sec. 4.1: a water block sliding out from between two plates (no gravity)."""
+    """[Liu2015] sec. 4.1: a water block sliding out from between two plates (no gravity)."""
     dx = require_positive("dx", params["dx"])
     h = require_positive("h_factor", params["h_factor"]) * dx
     width = require_positive("block", params["block"])
@@ -159,7 +159,7 @@ def snap_width(width, dx):
 
 PLATES = Case(
     name="plates",
-    description="water block leaving two vertical plates at 1 m/s, no gravity (seed 003 sec. 4.1)",
+    description="water block leaving two vertical plates at 1 m/s, no gravity ([Liu2015] sec. 4.1)",
     builder=build_plates,
     parameters={**FLUID,
                 "dx": Parameter(1e-3, "particle spacing [m]"),
@@ -180,7 +180,7 @@ def _gate(x_surface, height, dx, layers, layout, beta, speed):
     """The gate holding the column (fluid at x < x_surface), lifted at ``speed`` until it is ``height`` up.
 
     speed = 0: no gate (removed at t = 0). The gate is a plate of the same wall model as the tank
-    (seed 003 sec. 4.4: lifting speed 3.46 m/s); its motion starts impulsively at t = 0.
+    ([Liu2015] sec. 4.4: lifting speed 3.46 m/s); its motion starts impulsively at t = 0.
     """
     if speed == 0.0:
         return None
@@ -198,7 +198,7 @@ def _gate(x_surface, height, dx, layers, layout, beta, speed):
 
 
 def build_dam_break_etsin(params, wall_model, threads):
-    """Seed 003 sec. 4.4: H = 0.3 m column, 0.6 m long, in a 1.61 m tank (Lobovsky et al. 2014).
+    """[Liu2015] sec. 4.4: H = 0.3 m column, 0.6 m long, in a 1.61 m tank (Lobovsky et al. 2014).
 
     The column starts in hydrostatic equilibrium, p = rho0 g (H - y) (the seed does not say; a
     column released at p = 0 rings with acoustic waves of amplitude rho0 g H).
@@ -242,11 +242,11 @@ def build_dam_break_etsin(params, wall_model, threads):
 
 DAM_BREAK_ETSIN = Case(
     name="dam-break-etsin",
-    description="ETSIN dam break of seed 003 sec. 4.4 (H = 0.3 m, 1.61 m tank, sensors at 3/15/30/80 mm), "
-                "seed 003 fluid, dt = 5e-5 s; --set gate_speed=3.46 lifts the gate as in the experiment",
+    description="ETSIN dam break of [Liu2015] sec. 4.4 (H = 0.3 m, 1.61 m tank, sensors at 3/15/30/80 mm), "
+                "[Liu2015] fluid, dt = 5e-5 s; --set gate_speed=3.46 lifts the gate as in the experiment",
     builder=build_dam_break_etsin,
     parameters={**FLUID,
-                "dt": Parameter(5e-5, "fixed time step [s] (seed 003 sec. 4.4: 5e-5; 0 = the adaptive rule of "
+                "dt": Parameter(5e-5, "fixed time step [s] ([Liu2015] sec. 4.4: 5e-5; 0 = the adaptive rule of "
                                       "eq. 18-20)"),
                 "H": Parameter(0.3, "column height [m] (column length 2H)"),
                 "dx": Parameter(None, "particle spacing [m] (default H / 50 = 6 mm as in the seed)"),

@@ -1,6 +1,6 @@
-"""Filling of an S-shaped cavity through an inflow (seed 003, sec. 4.3; Schmid & Klein's water model).
+"""Filling of an S-shaped cavity through an inflow ([Liu2015], sec. 4.3; Schmid & Klein's water model).
 
-Seed 003 fills a horizontal die-casting cavity of round and square bends
+[Liu2015] fills a horizontal die-casting cavity of round and square bends
 with water entering at v_in = 8.7 m/s from an inlet at its bottom (no
 gravity, free slip, dx = 1 mm, h = 1.2 dx, c = 20 v_in = 174 m/s, 3 wall
 layers). Its Fig. 8 gives the shape only as a drawing, so this is an
@@ -186,20 +186,20 @@ def build_s_cavity(params, wall_model, threads):
 S_CAVITY = Case(
     name="s-cavity",
     description="filling of an S-shaped cavity (round and square bends) through an inflow at 8.7 m/s "
-                "(seed 003 sec. 4.3), no gravity",
+                "([Liu2015] sec. 4.3), no gravity",
     builder=build_s_cavity,
     parameters={
-        "dx": Parameter(None, "particle spacing [m] (seed 003: 1 mm)"),
-        "h_factor": Parameter(1.2, "smoothing length h / dx (seed 003: 1.2)"),
-        "v_in": Parameter(8.7, "inflow velocity [m/s] (seed 003: 8.7)"),
-        "c0": Parameter(None, "speed of sound [m/s] (default 20 v_in = 174, seed 003)"),
+        "dx": Parameter(None, "particle spacing [m] ([Liu2015]: 1 mm)"),
+        "h_factor": Parameter(1.2, "smoothing length h / dx ([Liu2015]: 1.2)"),
+        "v_in": Parameter(8.7, "inflow velocity [m/s] ([Liu2015]: 8.7)"),
+        "c0": Parameter(None, "speed of sound [m/s] (default 20 v_in = 174, [Liu2015])"),
         "alpha": Parameter(0.02, "artificial viscosity alpha"),
         "nu": Parameter(1e-6, "kinematic viscosity [m^2/s] (water)"),
         "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
         "cfl": Parameter(0.2, "CFL number"),
         "rho0": Parameter(1000.0, "reference density [kg/m^3]"),
         "layers": Parameter(4, "particle layers of the inflow zone", int),
-        "wall_layers": Parameter(3, "wall particle layers (seed 003: 3)", int),
+        "wall_layers": Parameter(3, "wall particle layers ([Liu2015]: 3)", int),
         "buffer_size": Parameter(0, "spare particles (0 = 1.2 x the cavity's particle count)", int),
     },
     t_end=0.065, probe_every=5e-4, output_every=5e-3)

@@ -30,7 +30,7 @@ SCHEMES = ("standard", "marrone2011")
 
 
 def _scheme(params, c0):
-    """(kernel, fluid factory) of the chosen scheme: the cases' standard one or seed 001's delta-SPH."""
+    """(kernel, fluid factory) of the chosen scheme: the cases' standard one or [Huang2019]'s delta-SPH."""
     scheme = params.get("scheme", "standard")
     if scheme not in SCHEMES:
         raise ParameterError(f"scheme must be one of {', '.join(SCHEMES)}; got {scheme!r}")
@@ -46,7 +46,7 @@ def _integrator(params):
 
 
 def dam_break_pressure(x, y, L, H, *, rho0=RHO0, c0, g=GRAVITY, n_terms=400):
-    """Initial pressure of a water column [0, L] x [0, H] released at t = 0 (seed 001 sec. 4.2, eq. 22-24).
+    """Initial pressure of a water column [0, L] x [0, H] released at t = 0 ([Huang2019] sec. 4.2, eq. 22-24).
 
     Solves the Laplace problem  lap P = 0,  dP/dy = -rho g at y = 0 (rho = rho0 + P/c0^2,
     the linear EOS), dP/dx = 0 at x = 0, P = 0 at x = L and y = H:
@@ -114,17 +114,17 @@ COMMON = {
     "lagged_gradient": Parameter(True, "delta-SPH gradient from the previous evaluation (one pass); false = two passes", bool),
 }
 
-#: parameters of the cases that can run seed 001's settings
+#: parameters of the cases that can run [Huang2019]'s settings
 SEED001 = {
     "scheme": Parameter("standard", "fluid scheme: standard (Tait, cubic spline) or marrone2011 "
-                        "(seed 001: linear EOS, Gaussian cut at 3h, delta-SPH)", str),
-    "dt": Parameter(0.0, "fixed time step [s] (0 = adaptive CFL; seed 001 uses 1e-4)"),
+                        "([Huang2019]: linear EOS, Gaussian cut at 3h, delta-SPH)", str),
+    "dt": Parameter(0.0, "fixed time step [s] (0 = adaptive CFL; [Huang2019] uses 1e-4)"),
 }
 
 
 # ---------------------------------------------------------------- hydrostatic
 def build_hydrostatic(params, wall_model, threads):
-    """Still water in a tank (seed 001, sec. 4.1): probes P0-P3 on the left wall."""
+    """Still water in a tank ([Huang2019], sec. 4.1): probes P0-P3 on the left wall."""
     if params["dx"] is None:
         params["dx"] = 0.01
     dx, h = _common(params)
@@ -154,7 +154,7 @@ def build_hydrostatic(params, wall_model, threads):
 
 HYDROSTATIC = Case(
     name="hydrostatic",
-    description="still water 0.3 m deep in a 1 m tank, wall pressure probes P0-P3 (seed 001 sec. 4.1)",
+    description="still water 0.3 m deep in a 1 m tank, wall pressure probes P0-P3 ([Huang2019] sec. 4.1)",
     builder=build_hydrostatic,
     parameters={**COMMON, **SEED001,
                 "depth": Parameter(0.3, "water depth [m]"),
@@ -190,7 +190,7 @@ def build_dam_break(params, wall_model, threads):
     """2D dam break: column 2H x H at the left wall of a tank 5.366 H long, ``tank_height`` H high.
 
     H = 0.3 m is the "ETSIN" experiment (Lobovsky et al. 2014) used by seed
-    003; H = 0.6 m the case of seed 001 (Buchner 2002 sensor P1). Sensors on
+    003; H = 0.6 m the case of [Huang2019] (Buchner 2002 sensor P1). Sensors on
     the downstream wall: S1-S4 at y = 0.010, 0.050, 0.100, 0.2667 H (the
     experiment's sensors) and P1 at y = 0.2 H.
     """
@@ -227,14 +227,14 @@ DAM_BREAK = Case(
     builder=build_dam_break,
     parameters={**COMMON, **SEED001, **TANK_PARAMETERS,
                 "H": Parameter(0.3, "column height [m] (0.3 ETSIN, 0.6 Buchner)"),
-                "initial": Parameter("rest", "initial pressure: rest (p = 0) or analytic (seed 001 sec. 4.2, "
+                "initial": Parameter("rest", "initial pressure: rest (p = 0) or analytic ([Huang2019] sec. 4.2, "
                                      "Laplace-problem series)", str)},
     t_end=1.5, probe_every=5e-4, output_every=0.02)
 
 
 # ---------------------------------------------------------------- collapse
 def build_collapse(params, wall_model, threads):
-    """Koshizuka & Oka (1996) column collapse (seed 003 sec. 4.4).
+    """Koshizuka & Oka (1996) column collapse ([Liu2015] sec. 4.4).
 
     Column a = 0.146 m wide and 2a high (n^2 = 2 in Martin & Moyce's terms)
     in a tank 4a long; probe ``front`` is the x of the foremost particle.

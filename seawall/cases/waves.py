@@ -1,4 +1,4 @@
-"""Waves on seawalls (seed 001 sec. 4.3-4.4): solitary waves from a piston wave maker.
+"""Waves on seawalls ([Huang2019] sec. 4.3-4.4): solitary waves from a piston wave maker.
 
 ``solitary-wave``
     A flume of constant depth d: a Goring piston (left wall above the floor)
@@ -7,17 +7,17 @@
     the wall, measured inside the water: 90 = vertical, > 90 leans away from
     the water like a sloped seawall). Probes: surface gauges ``eta_<x>``,
     run-up on the end wall ``runup``, the pairwise force on it ``Fx_wall``
-    (seed 001 eq. 29) and the integrated wall pressure ``Fx_wall_p``, both
+    ([Huang2019] eq. 29) and the integrated wall pressure ``Fx_wall_p``, both
     also divided by the hydrostatic force 0.5 rho g d^2 (``F*``), wall
     pressure probes ``P0``/``P1`` at heights ``probe_y``.
 ``solitary-seawall``
-    Seed 001 sec. 4.3: the same flume 10 m long, d = 0.25 m, H = 0.15 m, a
+    [Huang2019] sec. 4.3: the same flume 10 m long, d = 0.25 m, H = 0.15 m, a
     wall leaning at 120 deg, dx = 0.01 m, probes at y = 0.05 and 0.15 m.
 ``solitary-runup``
     The constant-depth flume with a vertical wall for the run-up sweep
     against Chan & Street (1970) (``validation/solitary_runup.py``).
 ``movable-seawall``
-    Seed 001 sec. 4.4 (after Liang et al. 2017): a vertical wall at
+    [Huang2019] sec. 4.4 (after Liang et al. 2017): a vertical wall at
     x0 = 2.50 m on a spring (m = 250 kg/m, k = 10 N/m) that moves once the
     force exceeds 1.10 F_static; depth 0.20 m, dx = 0.008 m. The seed does not
     give the wave height of this case; the default H = 0.1 m (H/d = 0.5) is our choice.
@@ -165,7 +165,7 @@ SOLITARY_WAVE = Case(
 
 SOLITARY_SEAWALL = Case(
     name="solitary-seawall",
-    description="seed 001 sec. 4.3: solitary wave (H 0.15 m, d 0.25 m) on a wall leaning at 120 deg, probes P0/P1",
+    description="[Huang2019] sec. 4.3: solitary wave (H 0.15 m, d 0.25 m) on a wall leaning at 120 deg, probes P0/P1",
     builder=lambda p, w, t: build_solitary_flume(p, w, t, "solitary-seawall"),
     parameters={**WAVE_COMMON,
                 "height": Parameter(0.15, "solitary wave height H [m]"),
@@ -256,7 +256,7 @@ class _CouplingValue(probes.Probe):
 
 MOVABLE_SEAWALL = Case(
     name="movable-seawall",
-    description="seed 001 sec. 4.4: solitary wave on a spring-mounted seawall at x = 2.5 m (m 250 kg/m, k 10 N/m)",
+    description="[Huang2019] sec. 4.4: solitary wave on a spring-mounted seawall at x = 2.5 m (m 250 kg/m, k 10 N/m)",
     builder=build_movable_seawall,
     parameters={**COMMON,
                 "alpha": Parameter(0.01, "artificial viscosity alpha"),

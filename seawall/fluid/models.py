@@ -9,12 +9,12 @@ from .params import DIFFUSION_MOLTENI, DIFFUSION_RENORMALISED
 
 
 class ArtificialViscosity:
-    """Monaghan (1992) artificial viscosity, seed 000 eq. 6, or its all-pairs form of seed 001 eq. 5.
+    """Monaghan (1992) artificial viscosity, [Li2022] eq. 6, or its all-pairs form of [Huang2019] eq. 5.
 
     Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2) / rho_ij,  mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2),
-    applied to approaching pairs (v_ij . r_ij < 0) only: Monaghan's switch, seed 000 eq. 6.
+    applied to approaching pairs (v_ij . r_ij < 0) only: Monaghan's switch, [Li2022] eq. 6.
     With ``all_pairs`` it acts on every pair, as the delta-SPH scheme of Marrone
-    et al. (2011) writes it (seed 001 eq. 5: alpha h c0 rho0 sum pi_ij . grad W V_j
+    et al. (2011) writes it ([Huang2019] eq. 5: alpha h c0 rho0 sum pi_ij . grad W V_j
     with pi_ij = v_ji . r_ji / |r_ji|^2 for all neighbours). Only then is it a
     shear viscosity nu = alpha h c0 / (2 (d + 2)) (alpha h c0 / 8 in 2D; derivation
     in docs/formulas.md); with the switch it gives about half that shear stress.
@@ -22,12 +22,12 @@ class ArtificialViscosity:
     Parameters
     ----------
     alpha : float
-        Linear coefficient; 0.01-0.1 for free-surface flows (seed 003 uses
-        0.01, seed 001 uses 0.02 after Marrone et al. 2011).
+        Linear coefficient; 0.01-0.1 for free-surface flows ([Liu2015] uses
+        0.01, [Huang2019] uses 0.02 after Marrone et al. 2011).
     beta : float
-        Quadratic coefficient, 0 after Monaghan (seed 000).
+        Quadratic coefficient, 0 after Monaghan ([Li2022]).
     all_pairs : bool
-        Apply the term to every pair (seed 001 eq. 5) instead of approaching
+        Apply the term to every pair ([Huang2019] eq. 5) instead of approaching
         pairs only (default False, Monaghan's switch). Needs beta = 0: the
         quadratic term is a shock term for approaching pairs and would push
         receding pairs apart.
@@ -49,7 +49,7 @@ class ArtificialViscosity:
 
 
 class LaminarViscosity:
-    """Laminar viscous term of Morris et al. (1997) as written in seed 003, eq. 9.
+    """Laminar viscous term of Morris et al. (1997) as written in [Liu2015], eq. 9.
 
     Parameters
     ----------
@@ -70,7 +70,7 @@ class MolteniColagrossi:
     Parameters
     ----------
     delta : float
-        Diffusion coefficient, 0.1 in the literature (seed 003, sec. 2).
+        Diffusion coefficient, 0.1 in the literature ([Liu2015], sec. 2).
     """
 
     kind = DIFFUSION_MOLTENI
@@ -85,8 +85,8 @@ class MolteniColagrossi:
 class DeltaSPH(MolteniColagrossi):
     """delta-SPH density diffusion with the renormalised density gradient.
 
-    Antuono et al. (2010), Marrone et al. (2011); seed 003 eq. 12-15 and
-    seed 001 sec. 2.1. The gradient correction makes the term vanish in a
+    Antuono et al. (2010), Marrone et al. (2011); [Liu2015] eq. 12-15 and
+    [Huang2019] sec. 2.1. The gradient correction makes the term vanish in a
     linear (hydrostatic) density field, so it does not disturb still water.
 
     Parameters

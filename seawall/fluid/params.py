@@ -37,7 +37,7 @@ class Physics(NamedTuple):
     gx: float
     gy: float
     gz: float
-    # artificial viscosity on every pair (1, Marrone et al. 2011 / seed 001 eq. 5) or only on
-    # approaching pairs v_ij . r_ij < 0 (0, Monaghan 1992 / seed 000 eq. 6); last with a default so
+    # artificial viscosity on every pair (1, Marrone et al. 2011 / [Huang2019] eq. 5) or only on
+    # approaching pairs v_ij . r_ij < 0 (0, Monaghan 1992 / [Li2022] eq. 6); last with a default so
     # that every existing construction keeps Monaghan's switch
     alpha_all_pairs: int = 0

@@ -1,6 +1,6 @@
 """Named fluid schemes: the configured pieces of a FluidSystem and its kernel.
 
-``marrone2011`` -- the delta-SPH scheme of Marrone et al. (2011) as seed 001
+``marrone2011`` -- the delta-SPH scheme of Marrone et al. (2011) as [Huang2019]
 (Huang et al. 2019) writes it in sec. 2.1, eq. 5-7:
 
 * linear equation of state p = c0^2 (rho - rho0)                (eq. 3, 5);
@@ -12,9 +12,9 @@
   eq. 5 sums over every neighbour, with no switch on approaching pairs, so
   the term is a shear viscosity nu = alpha h c0 / 8 in 2D, docs/formulas.md);
 * Gaussian kernel cut at delta = 3h and renormalised to unit integral (eq. 7),
-  h = 1.3 dx in seed 001 sec. 4.1.
+  h = 1.3 dx in [Huang2019] sec. 4.1.
 
-``liu2015`` -- the fluid of Liu et al. (2015), seed 003 sec. 2:
+``liu2015`` -- the fluid of Liu et al. (2015), [Liu2015] sec. 2:
 
 * Tait equation of state, gamma = 7, P0 = c_s^2 rho0 / gamma      (eq. 4);
 * cubic spline kernel                                           (eq. 7);
@@ -56,12 +56,12 @@ class FluidPreset:
 
 
 def marrone2011(c0, *, alpha=0.02, delta=0.1, h_factor=1.3):
-    """delta-SPH of Marrone et al. (2011) as in seed 001 sec. 2.1 (linear EOS, Gaussian cut at 3h).
+    """delta-SPH of Marrone et al. (2011) as in [Huang2019] sec. 2.1 (linear EOS, Gaussian cut at 3h).
 
     Parameters
     ----------
     c0 : float
-        Speed of sound [m/s] (seed 001: 10 sqrt(g H) ... 20 sqrt(g H)).
+        Speed of sound [m/s] ([Huang2019]: 10 sqrt(g H) ... 20 sqrt(g H)).
     alpha : float
         Artificial viscosity coefficient, 0.02.
     delta : float
@@ -76,13 +76,13 @@ def marrone2011(c0, *, alpha=0.02, delta=0.1, h_factor=1.3):
 
 def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient=True,
             background_pressure=0.0, dt=None):
-    """The fluid of Liu et al. (2015), seed 003 sec. 2 (Tait, cubic spline, laminar + artificial viscosity,
+    """The fluid of Liu et al. (2015), [Liu2015] sec. 2 (Tait, cubic spline, laminar + artificial viscosity,
     delta-SPH, leap-frog with the dt rule of eq. 18-20).
 
     Parameters
     ----------
     c0 : float
-        Speed of sound c_s [m/s] (seed 003: about 10 x the largest flow speed).
+        Speed of sound c_s [m/s] ([Liu2015]: about 10 x the largest flow speed).
     alpha : float
         Artificial viscosity coefficient (eq. 11), 0.02; 0 switches it off.
     delta : float
@@ -90,14 +90,14 @@ def liu2015(c0, *, alpha=0.02, delta=0.1, nu=1e-6, h_factor=1.2, lagged_gradient
     nu : float
         Kinematic viscosity [m^2/s] of the laminar term (eq. 9), 1e-6 (water); 0 switches it off.
     h_factor : float
-        h / dx: 1.5 in seed 003 sec. 4.1, 1.2 in sec. 4.2 and 4.3.
+        h / dx: 1.5 in [Liu2015] sec. 4.1, 1.2 in sec. 4.2 and 4.3.
     lagged_gradient : bool
         delta-SPH density gradient of the previous evaluation (one neighbour pass,
         see :class:`~seawall.fluid.DeltaSPH`); False computes it as written.
     background_pressure : float
-        Constant added to the Tait pressure [Pa], 0 in seed 003.
+        Constant added to the Tait pressure [Pa], 0 in [Liu2015].
     dt : float, optional
-        Fixed time step [s] (seed 003 runs its cases with one); default the rule of eq. 18-20.
+        Fixed time step [s] ([Liu2015] runs its cases with one); default the rule of eq. 18-20.
     """
     viscosity = []
     if alpha > 0:

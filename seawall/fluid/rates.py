@@ -3,26 +3,26 @@
 Each fluid particle gathers over its neighbours (no atomics, no races), so
 the loops run in parallel with ``prange``. Formulas and their sources:
 
-* continuity: drho_i/dt = sum_j m_j v_ij . grad_i W_ij            (seed 000, eq. 8)
-* summation:  rho_i = sum_j m_j W_ij                               (seed 000, eq. 7)
+* continuity: drho_i/dt = sum_j m_j v_ij . grad_i W_ij            ([Li2022], eq. 8)
+* summation:  rho_i = sum_j m_j W_ij                               ([Li2022], eq. 7)
 * momentum:   dv_i/dt = -sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij + g
-                                                                   (seed 000, eq. 5)
+                                                                   ([Li2022], eq. 5)
 * artificial viscosity Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2)/rho_ij, for
-  v_ij . r_ij < 0, mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2)         (seed 000, eq. 6)
-  or for every pair when ``prm.alpha_all_pairs``                    (seed 001, eq. 5)
+  v_ij . r_ij < 0, mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2)         ([Li2022], eq. 6)
+  or for every pair when ``prm.alpha_all_pairs``                    ([Huang2019], eq. 5)
 * laminar viscosity: + sum_j m_j (mu_i + mu_j)/(rho_i rho_j) v_ij (r_ij . grad_i W_ij)/(r_ij^2 + eta^2),
-  with dynamic viscosity mu = rho nu                               (seed 003, eq. 9)
-* density diffusion: + delta h c0 sum_j (m_j/rho_j) psi_ij . grad_i W_ij  (seed 003, eq. 12)
+  with dynamic viscosity mu = rho nu                               ([Liu2015], eq. 9)
+* density diffusion: + delta h c0 sum_j (m_j/rho_j) psi_ij . grad_i W_ij  ([Liu2015], eq. 12)
   psi_ij = 2 (rho_j - rho_i) r_ji / |r_ji|^2                       (Molteni & Colagrossi 2009)
-  psi_ij -= (<grad rho>_i^L + <grad rho>_j^L)                       (seed 003, eq. 13; seed 001 sec. 2.1)
-  The extracted eq. 13 of seed 003 reads 2(rho_i - rho_j) r_ij, which is the
+  psi_ij -= (<grad rho>_i^L + <grad rho>_j^L)                       ([Liu2015], eq. 13; [Huang2019] sec. 2.1)
+  The extracted eq. 13 of [Liu2015] reads 2(rho_i - rho_j) r_ij, which is the
   same vector (both factors change sign); see docs/formulas.md.
 * renormalised gradient <grad rho>_i^L = L_i sum_j V_j (rho_j - rho_i) grad_i W_ij,
-  L_i = [sum_j V_j grad_i W_ij (x) (x_j - x_i)]^-1                  (seed 003, eq. 14-15)
+  L_i = [sum_j V_j grad_i W_ij (x) (x_j - x_i)]^-1                  ([Liu2015], eq. 14-15)
 * tensile correction: f_ten = (R_i + R_j) (W_ij / W(dx))^4, R_k = eps p_k / rho_k^2,
-  eps = 0.01 for p_k > 0 and -0.2 otherwise                         (seed 000, eq. 20;
+  eps = 0.01 for p_k > 0 and -0.2 otherwise                         ([Li2022], eq. 20;
   the extracted text lost the square of rho_k, restored from Monaghan 2000)
-* XSPH: dx_i/dt = v_i + eps sum_j (m_j / rho_ij) (v_j - v_i) W_ij   (seed 000, eq. 10;
+* XSPH: dx_i/dt = v_i + eps sum_j (m_j / rho_ij) (v_j - v_i) W_ij   ([Li2022], eq. 10;
   the extracted text lost the sign of v_ij, restored from Monaghan 1989)
 """
 
@@ -56,7 +56,7 @@ def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncell, period, prm, same, rho):
-    """Density by summation, rho_i = sum_j m_j W_ij (seed 000, eq. 7).
+    """Density by summation, rho_i = sum_j m_j W_ij ([Li2022], eq. 7).
 
     With ``same`` the set b is the fluid itself: rho is overwritten and the
     self term m_i W(0) included. Otherwise b is a wall whose (hydrodynamic)
@@ -87,7 +87,7 @@ def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncel
 
 @njit(cache=True, inline="always")
 def store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2):
-    """grad[i] = A^-1 g for the symmetric renormalisation matrix A (seed 003 eq. 15).
+    """grad[i] = A^-1 g for the symmetric renormalisation matrix A ([Liu2015] eq. 15).
 
     Where det A < 1e-2 (A is ~identity in the bulk; a droplet or a particle with
     few neighbours) the plain kernel gradient g is stored instead.
@@ -120,7 +120,7 @@ def store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_cell, ncell, period, prm, grad):
-    """<grad rho>_i^L of seed 003 eq. 14-15 (Randles & Libersky renormalisation).
+    """<grad rho>_i^L of [Liu2015] eq. 14-15 (Randles & Libersky renormalisation).
 
     Where the renormalisation matrix is nearly singular (a particle with few
     neighbours, e.g. a droplet) its determinant falls below 1e-2 (it is ~1 in
@@ -173,7 +173,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next):
     ``fluid`` is a :class:`~seawall.views.FluidView`, ``cells`` the fluid's
     :class:`~seawall.views.CellView`, ``rates`` a :class:`~seawall.views.Rates`.
     Overwrites ``rates.dv``, ``rates.drho``, ``rates.xsph``; ``rates.mu_max[i]``
-    receives max_j |mu_ij| for the Monaghan-Kos time-step criterion (seed 000,
+    receives max_j |mu_ij| for the Monaghan-Kos time-step criterion ([Li2022],
     eq. 11). Gravity is added here too, so wall models only add their own terms
     afterwards. The pair terms are those of :mod:`seawall.pairs`;
     ``prm.alpha_all_pairs`` applies the artificial viscosity to receding pairs too.
@@ -288,7 +288,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next):
                         else:
                             g_dot_r = 0.0
                         if lagged:
-                            # this state's <grad rho>^L, used by the next evaluation (seed 003 eq. 14-15)
+                            # this state's <grad rho>^L, used by the next evaluation ([Liu2015] eq. 14-15)
                             vol = volume[j]
                             sv = -f * vol
                             a00 += sv * d0 * d0

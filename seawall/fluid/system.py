@@ -27,12 +27,12 @@ class FluidSystem:
     density_diffusion : MolteniColagrossi | DeltaSPH | None
         Default None.
     density : {"continuity", "summation"}
-        Density by the continuity equation (seed 000 eq. 8, default) or by
+        Density by the continuity equation ([Li2022] eq. 8, default) or by
         summation (eq. 7).
     tensile_correction : bool
-        Monaghan (2000) tensile correction, seed 000 eq. 20 (default off).
+        Monaghan (2000) tensile correction, [Li2022] eq. 20 (default off).
     xsph : float
-        XSPH epsilon of seed 000 eq. 10 (0 = off, the seed uses 0.5).
+        XSPH epsilon of [Li2022] eq. 10 (0 = off, the seed uses 0.5).
     velocity : array-like, optional
         Initial velocity, a constant vector or an (N, d) array [m/s].
     pressure : callable or array, optional

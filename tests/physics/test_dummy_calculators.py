@@ -2,7 +2,7 @@
 
 Measured means of the bottom-wall pressure P0 against rho g H over 1.0-1.5 s:
 adami -0.09 %, summation -2.2 %, continuity +0.1 % (+0.2 % with no slip), mirroring +18.8 %, zeroing
-+165 % (zeroing lets particles sink 0.04 m into the floor; seed 004 calls it the
++165 % (zeroing lets particles sink 0.04 m into the floor; [TrixiBoundary] calls it the
 worst option). The models that are meant to be usable must keep the bottom
 pressure within 5 % (twice the worst measured, summation's 2.2 %) and every
 particle inside the tank; mirroring and zeroing are only required to run and to

@@ -1,6 +1,6 @@
-"""Hydrostatic tank with fixed ghost walls, each interpolation (seed 001 sec. 4.1, CI resolution).
+"""Hydrostatic tank with fixed ghost walls, each interpolation ([Huang2019] sec. 4.1, CI resolution).
 
-dx = 0.025 m (the seed: 0.01 m), seed 001's fluid scheme (marrone2011), 1.5 s
+dx = 0.025 m (the seed: 0.01 m), [Huang2019]'s fluid scheme (marrone2011), 1.5 s
 of simulated time (a few seconds of wall time each). The wall probes P0-P3
 must stay within a tolerance of rho g (H - y) over the second half of the
 run. Measured maximum errors (docs/ghost.md): 2.0-2.1 % of rho g H for MLS

@@ -1,4 +1,4 @@
-"""Still water in a tank (seed 001 sec. 4.1) with Adami dummy walls, at CI resolution (dx = 0.02 m).
+"""Still water in a tank ([Huang2019] sec. 4.1) with Adami dummy walls, at CI resolution (dx = 0.02 m).
 
 Reference: p = rho0 g (H - y). Measured with this set-up (cubic spline h = 1.3 dx,
 alpha = 0.02, delta-SPH 0.1, c0 = 24.3 m/s): from a hydrostatic start the largest

@@ -1,4 +1,4 @@
-"""Short versions of the seed 000 test cases (Li, Zhang & Yuan), asserting the measured behaviour.
+"""Short versions of the [Li2022] test cases (Li, Zhang & Yuan), asserting the measured behaviour.
 
 Tolerances (docs/idbc.md has the full runs):
 * one reflection in ``particle-in-box``: IDBC's force field is a ridge parallel
@@ -76,7 +76,7 @@ def idbc_still_water():
 
 
 def test_idbc_keeps_still_water_still(idbc_still_water):
-    # seed 000's wall density (eq. 8 with eq. 26): measured rms speed 0.0094 m/s = 0.0055 sqrt(g H) at
+    # [Li2022]'s wall density (eq. 8 with eq. 26): measured rms speed 0.0094 m/s = 0.0055 sqrt(g H) at
     # 1.5 s; the `consistent` rule (the default before) gave 0.73 m/s = 0.43 sqrt(g H)
     sim, result = idbc_still_water
     v = sim.fluid.particles["v"]

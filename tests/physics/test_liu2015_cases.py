@@ -1,4 +1,4 @@
-"""Seed 003 sec. 4 with the Liu et al. (2015) wall: the block between plates and the Re = 1 cavity.
+"""[Liu2015] sec. 4 with the Liu et al. (2015) wall: the block between plates and the Re = 1 cavity.
 
 plates (full resolution, dx = 1 mm, 1600 particles, 810 steps): with liu2015 every
 particle stays on its rigid-translation path to 5e-13 m (the wall never acts on
@@ -8,7 +8,7 @@ docs/liu2015.md (validation/liu2015.py).
 cavity (fluid liu2015, 4 layers) at Re = 1, dx = L/30, c0 = 0.05 m/s: at the
 steady state (t = 0.2 s; the seed calls its run steady at 0.15 s) the largest
 centreline deviation from the computed Re = 1 reference (stations at least dx
-from the walls) is within 5 % of U. Later the seed-003 fluid (no particle
+from the walls) is within 5 % of U. Later the [Liu2015] fluid (no particle
 shifting) lets the particle distribution degrade and the vortex weakens:
 10.1 % (u) and 5.4 % (v) at t = 0.5 s -- the strict xfail records it.
 """
@@ -72,7 +72,7 @@ def test_cavity_re1_centrelines_within_5_percent_at_steady_state(cavity_re1):
     assert np.abs(du).max() < 0.05 and np.abs(dv).max() < 0.05
 
 
-@pytest.mark.xfail(strict=True, reason="t = 0.5 s: 10.1 % (u) and 5.4 % (v) of U; the seed-003 fluid's particle "
+@pytest.mark.xfail(strict=True, reason="t = 0.5 s: 10.1 % (u) and 5.4 % (v) of U; the [Liu2015] fluid's particle "
                                        "distribution degrades after the steady state, see docs/liu2015.md")
 def test_cavity_re1_centrelines_stay_within_5_percent(cavity_re1):
     _, _, _, (_, _, du, dv) = cavity_re1

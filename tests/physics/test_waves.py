@@ -1,4 +1,4 @@
-"""Solitary waves from the Goring wave maker, and the spring-mounted seawall (seed 001 sec. 4.4).
+"""Solitary waves from the Goring wave maker, and the spring-mounted seawall ([Huang2019] sec. 4.4).
 
 Solitary wave (Adami walls, d = 0.1 m, H/d = 0.4, dx = d/14, flume 20 d, cubic
 spline h = 1.3 dx, alpha = 0.01 (the wave cases' default), delta-SPH 0.1, c0 = 10 sqrt(g (d + H))):

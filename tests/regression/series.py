@@ -99,9 +99,9 @@ def _all_series():
     for case, params, t in (("hydrostatic", HYDROSTATIC, HYDROSTATIC_T), ("dam-break", DAM_BREAK, DAM_BREAK_T)):
         out[f"{case}-continuity-noslip"] = Series(case, "continuity", params, t, t / 30, {"slip": "noslip"})
         out[f"{case}-ghost-mls1-noslip"] = Series(case, "ghost-mls1", params, t, t / 30, {"slip": "noslip"})
-        # the fluid scheme of seed 001 (linear EOS, Gaussian kernel, delta-SPH)
+        # the fluid scheme of [Huang2019] (linear EOS, Gaussian kernel, delta-SPH)
         out[f"{case}-marrone2011"] = Series(case, "adami", {**params, "scheme": "marrone2011"}, t, t / 30)
-    # the two cavity fluids: laminar viscosity with a linear EOS, and the liu2015 preset (seed 003 sec. 2)
+    # the two cavity fluids: laminar viscosity with a linear EOS, and the liu2015 preset ([Liu2015] sec. 2)
     cavity_t = 0.3                # 30 % of a lid passage L / U; ~300 steps (dt = 0.2 h / c0)
     out["cavity-standard"] = Series("cavity", "adami-noslip", CAVITY, cavity_t, cavity_t / 30)
     out["cavity-liu2015"] = Series("cavity", "liu2015-noslip", {**CAVITY, "fluid": "liu2015", "background": 0.0}, cavity_t,

@@ -1,4 +1,4 @@
-"""Artificial viscosity as a shear viscosity: Monaghan's switch (seed 000 eq. 6) against every pair (seed 001 eq. 5).
+"""Artificial viscosity as a shear viscosity: Monaghan's switch ([Li2022] eq. 6) against every pair ([Huang2019] eq. 5).
 
 A periodic sine shear u = U sin(k y), v = 0, at uniform density has no pressure
 force, so the fluid's acceleration is the viscous term alone. On every pair

@@ -1,4 +1,4 @@
-"""DBC / IDBC (seed 000) on hand-built configurations: one wall and one fluid particle, a row of walls."""
+"""DBC / IDBC ([Li2022]) on hand-built configurations: one wall and one fluid particle, a row of walls."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Dummy-particle walls (seed 004) and fluid-wall adhesion on hand-built configurations.
+"""Dummy-particle walls ([TrixiBoundary]) and fluid-wall adhesion on hand-built configurations.
 
 Three wall rows under a block of fluid particles whose pressure, density and
 velocity are set by hand; the wall state and the forces on the fluid are

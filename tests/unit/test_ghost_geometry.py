@@ -1,4 +1,4 @@
-"""Ghost-wall geometry (seed 001 sec. 2.2): mirror points of corner-rich walls lie in the fluid,
+"""Ghost-wall geometry ([Huang2019] sec. 2.2): mirror points of corner-rich walls lie in the fluid,
 the pressure transfer is exact for still water, and the dam-break initial field meets its boundary conditions."""
 
 import numpy as np
@@ -86,7 +86,7 @@ def test_export_vtu(tmp_path):
 
 
 def test_dam_break_initial_pressure_boundary_conditions():
-    """Seed 001 eq. 22-24: P = 0 on the free surfaces, dP/dx = 0 at x = 0, dP/dy = -g (rho0 + P/c0^2) at y = 0."""
+    """[Huang2019] eq. 22-24: P = 0 on the free surfaces, dP/dx = 0 at x = 0, dP/dy = -g (rho0 + P/c0^2) at y = 0."""
     H, L = 0.6, 1.2
     c0 = 20.0 * np.sqrt(9.81 * H)
     y = np.linspace(0.05, 0.55, 6)

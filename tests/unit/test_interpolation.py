@@ -1,4 +1,4 @@
-"""Mirror-point interpolations of seed 001 (MLS, SFDI, normalised, improved Shepard).
+"""Mirror-point interpolations of [Huang2019] (MLS, SFDI, normalised, improved Shepard).
 
 Each method must reproduce exactly the polynomial fields it is built for on
 irregular neighbour sets, degrade gracefully with few neighbours, and the

@@ -1,4 +1,4 @@
-"""Liu et al. (2015) dummy wall (seed 003 eq. 21-29) and the Liu et al. (2012) boundary force, on hand-built set-ups."""
+"""Liu et al. (2015) dummy wall ([Liu2015] eq. 21-29) and the Liu et al. (2012) boundary force, on hand-built set-ups."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Open boundaries (seed 004): characteristic inversion, zone geometry, particle exchange, buffer accounting."""
+"""Open boundaries ([TrixiBoundary]): characteristic inversion, zone geometry, particle exchange, buffer accounting."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""Monaghan-Kajtar repulsive walls (seed 004): the acceleration against the formula evaluated by hand."""
+"""Monaghan-Kajtar repulsive walls ([TrixiBoundary]): the acceleration against the formula evaluated by hand."""
 
 import math
 

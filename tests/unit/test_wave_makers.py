@@ -1,4 +1,4 @@
-"""Wave-maker trajectories, the spring-mounted wall's update (seed 001 sec. 4.4) and the wave probes' geometry."""
+"""Wave-maker trajectories, the spring-mounted wall's update ([Huang2019] sec. 4.4) and the wave probes' geometry."""
 
 import math
 

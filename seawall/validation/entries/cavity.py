@@ -12,7 +12,7 @@ from ...cases.lid_cavity import centrelines
 from .. import Entry, row
 from ._common import pyplot
 
-TOL = 0.05      # of the lid speed, fixed before the runs (the figure seed 003's Re = 1 comparison is judged by)
+TOL = 0.05      # of the lid speed, fixed before the runs (the figure [Liu2015]'s Re = 1 comparison is judged by)
 
 
 def run_cavity(ctx, reynolds, t_end, c0=None):
@@ -68,7 +68,7 @@ def run_cavity(ctx, reynolds, t_end, c0=None):
                       f"Escaped particles: {res.summary['escaped_particles']}."]}
 
 
-_SETUP = ("Case ``cavity`` (L = 1 mm, lid U = 1 mm/s, nu = U L / Re; seed 003 sec. 4.2 runs Re = 1), no-slip dummy "
+_SETUP = ("Case ``cavity`` (L = 1 mm, lid U = 1 mm/s, nu = U L / Re; [Liu2015] sec. 4.2 runs Re = 1), no-slip dummy "
           "walls (``adami-noslip``), dx = L/50, h = 1.2 dx, ")
 _QUANTITY = ("Quantity: u/U on the vertical and v/U on the horizontal centreline at the reference points; the largest "
              "deviation. Tolerance (fixed before the run): 5 % of U.")

@@ -1,6 +1,6 @@
 """Hydrostatic tank: wall pressure at the probes against p = rho0 g (H - y).
 
-Case ``hydrostatic`` (water 0.3 m deep in a 1 m tank, seed 001 sec. 4.1),
+Case ``hydrostatic`` (water 0.3 m deep in a 1 m tank, [Huang2019] sec. 4.1),
 Adami wall, dx = 0.01 m, 2 s from the hydrostatic state. Quantity: the mean
 of each wall probe over the second half of the run. Tolerance (chosen before
 the run): 1 % of rho0 g H, the pressure scale of the tank -- a wall that holds
