@@ -7,6 +7,22 @@ left the domain) act on all arrays at once, so they never get out of step.
 
 import numpy as np
 
+from .errors import ParameterError
+
+
+def initial_velocity(velocity, n, dim):
+    """(n, dim) velocities from ``velocity`` (None = at rest, one vector, or one row per particle), checked finite."""
+    v = np.zeros((n, dim))
+    if velocity is not None:
+        try:
+            v[:] = np.asarray(velocity, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ParameterError(f"velocity must be a vector of {dim} numbers or an (n, {dim}) array, "
+                                 f"got {velocity!r}"[:200]) from None
+        if not np.all(np.isfinite(v)):
+            raise ParameterError("velocity must be finite (no NaN or infinity)")
+    return v
+
 
 class ParticleArrays:
     """Named per-particle arrays of equal length.

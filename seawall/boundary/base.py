@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import ParameterError, require_nonnegative
-from ..particles import ParticleArrays
+from ..particles import ParticleArrays, initial_velocity
 
 
 @dataclass
@@ -240,15 +240,7 @@ class WallSystem:
         n = x.shape[0]
         self.particles = ParticleArrays(self.dim)
         self.particles.add("x", x)
-        v = np.zeros((n, self.dim))
-        if velocity is not None:
-            try:
-                v[:] = np.asarray(velocity, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise ParameterError(f"velocity must be a vector of {v.shape[1]} numbers or an (n, {v.shape[1]}) array, "
-                                     f"got {velocity!r}"[:200]) from None
-            if not np.all(np.isfinite(v)):
-                raise ParameterError("velocity must be finite (no NaN or infinity)")
+        v = initial_velocity(velocity, n, self.dim)
         self.particles.add("v", v)
         self.particles.add("a", np.zeros((n, self.dim)))
         normals = getattr(shape, "normals", None)

@@ -4,7 +4,7 @@ import numpy as np
 
 from ..eos import EquationOfState
 from ..errors import ParameterError, require_nonnegative, require_positive
-from ..particles import ParticleArrays
+from ..particles import ParticleArrays, initial_velocity
 from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi
 
 DENSITY_MODES = ("continuity", "summation")
@@ -80,15 +80,7 @@ class FluidSystem:
         n = x.shape[0]
         pa = ParticleArrays(self.dim)
         pa.add("x", x)
-        v = np.zeros((n, self.dim))
-        if velocity is not None:
-            try:
-                v[:] = np.asarray(velocity, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise ParameterError(f"velocity must be a vector of {v.shape[1]} numbers or an (n, {v.shape[1]}) array, "
-                                     f"got {velocity!r}"[:200]) from None
-            if not np.all(np.isfinite(v)):
-                raise ParameterError("velocity must be finite (no NaN or infinity)")
+        v = initial_velocity(velocity, n, self.dim)
         pa.add("v", v)
         pa.add("m", np.full(n, self.rho0 * self.spacing ** self.dim))
         if pressure is None:

@@ -4,7 +4,6 @@ Small boxes (6 discs dropped onto the floor, so contacts happen within the first
 """
 
 import json
-import signal
 import subprocess
 import sys
 
@@ -18,7 +17,7 @@ from seawall.errors import ParameterError
 from seawall.io import load_checkpoint, read_probes_csv, read_vtu
 from seawall.io.vtk import PVDSeries
 
-from test_robustness import _wait_for_rows, no_temp_files, one_line, subprocess_env, summary_of
+from test_robustness import _terminate_once_sampling, no_temp_files, one_line, subprocess_env, summary_of
 
 SMALL = {"columns": 3, "layers": 2, "drop_height": 0.0}
 SMALL_ARGS = [arg for key, value in SMALL.items() for arg in ("--set", f"{key}={value}")]
@@ -89,16 +88,8 @@ def _last_snapshot(directory):
 
 def test_sigterm_ends_a_whole_step_and_the_restart_is_bit_for_bit(tmp_path):
     out = tmp_path / "stopped"
-    proc = subprocess.Popen(_run(out, "--t-end", "50"), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=subprocess_env())
-    try:
-        _wait_for_rows(out / "probes.csv", 3, proc)
-        proc.send_signal(signal.SIGTERM)
-        _, err = proc.communicate(timeout=120)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-    assert proc.returncode == EXIT_TERMINATED, err
+    code, err = _terminate_once_sampling(_run(out, "--t-end", "50"), out)
+    assert code == EXIT_TERMINATED, err
     assert "SIGTERM" in one_line(err)
     summary = summary_of(out)
     assert summary["status"] == "interrupted" and "SIGTERM" in summary["error"]

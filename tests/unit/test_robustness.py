@@ -196,11 +196,9 @@ def _wait_for_rows(path, rows, proc, limit=240):
     raise AssertionError("the run did not start sampling in time")
 
 
-def test_sigterm_stops_like_ctrl_c_and_the_run_can_continue(tmp_path):
-    out = tmp_path / "run"
-    proc = subprocess.Popen([sys.executable, "-m", "seawall", "run", "hydrostatic", *TANK, "--t-end", "50",
-                             "--out", str(out), "--probe-every", "0.001"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=subprocess_env())
+def _terminate_once_sampling(cmd, out):
+    """Start ``seawall run`` ``cmd``, send SIGTERM once probes.csv has rows; (exit code, stderr)."""
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=subprocess_env())
     try:
         _wait_for_rows(out / "probes.csv", 3, proc)
         proc.send_signal(signal.SIGTERM)
@@ -208,7 +206,14 @@ def test_sigterm_stops_like_ctrl_c_and_the_run_can_continue(tmp_path):
     finally:
         if proc.poll() is None:
             proc.kill()
-    assert proc.returncode == EXIT_TERMINATED, err
+    return proc.returncode, err
+
+
+def test_sigterm_stops_like_ctrl_c_and_the_run_can_continue(tmp_path):
+    out = tmp_path / "run"
+    code, err = _terminate_once_sampling([sys.executable, "-m", "seawall", "run", "hydrostatic", *TANK, "--t-end",
+                                          "50", "--out", str(out), "--probe-every", "0.001"], out)
+    assert code == EXIT_TERMINATED, err
     assert "SIGTERM" in one_line(err) and "Traceback" not in err
     summary = summary_of(out)
     assert summary["status"] == "interrupted" and "SIGTERM" in summary["error"]
