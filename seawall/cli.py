@@ -147,8 +147,11 @@ def build_parser():
     val.add_argument("--list", action="store_true", help="list the entries with their expected durations")
     val.add_argument("--quick", action="store_true",
                      help="coarse, short runs (a smoke test; results go to runs/validate-quick unless --results)")
-    val.add_argument("--results", help="directory of the per-entry JSON results (default validation/out/validate)")
+    val.add_argument("--results", help="directory of the per-entry JSON results (default: each entry's "
+                     "validation/<case>/results/)")
     val.add_argument("--doc", help="markdown file to (re)generate (default docs/validation.md)")
+    val.add_argument("--doc-only", action="store_true",
+                     help="regenerate the markdown from the stored results without running any entry")
     val.add_argument("--threads", type=_positive_int("--threads"), help="threads of the compiled loops")
 
     plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
@@ -420,7 +423,7 @@ def cmd_validate(args):
     from .validation import run_validate
 
     return run_validate(args.names, quick=args.quick, results=args.results, doc=args.doc, threads=args.threads,
-                        list_only=args.list)
+                        list_only=args.list, doc_only=args.doc_only)
 
 
 def cmd_plot(args):

@@ -15,7 +15,7 @@
     wall leaning at 120 deg, dx = 0.01 m, probes at y = 0.05 and 0.15 m.
 ``solitary-runup``
     The constant-depth flume with a vertical wall for the run-up sweep
-    against Chan & Street (1970) (``validation/solitary_runup.py``).
+    against Chan & Street (1970) (``validation/solitary-runup/sweep.py``).
 ``movable-seawall``
     [Huang2019] sec. 4.4 (after Liang et al. 2017): a vertical wall at
     x0 = 2.50 m on a spring (m = 250 kg/m, k = 10 N/m) that moves once the

@@ -1,19 +1,30 @@
 """``seawall validate``: validation entries, their stored results and docs/validation.md.
 
-An *entry* is defined in a module of ``seawall/validation/entries/`` as
-``ENTRY = Entry(...)`` (or several as a tuple ``ENTRIES``, when they share
-one run with other settings): a name, a title, the expected duration of its full
-run, and ``run(ctx)`` returning rows (case, quantity, reference, reference
-value, seawall value, error, tolerance, pass/fail) and plots. Modules there
-are discovered automatically, so adding an entry is adding one file (or one
-``Entry`` to a tuple).
+Each validated case has one folder of the repository checkout, ``validation/<case>/``:
+
+* ``entry.py`` -- its entry, ``ENTRY = Entry(...)`` (or several as a tuple ``ENTRIES``,
+  when they share one run with other settings): a name, a title, the expected
+  duration of its full run, and ``run(ctx)`` returning rows (case, quantity,
+  reference, reference value, seawall value, error, tolerance, pass/fail) and plots;
+* ``results/<name>.json`` -- the stored result of each of its entries (committed);
+* ``img/`` -- its figures; other ``*.py`` there are stand-alone scripts about the
+  same subject (``python validation/<case>/<script>.py``), ``runs/`` their
+  uncommitted output.
+
+The folders are discovered automatically, so adding an entry is adding one
+folder with an ``entry.py`` (or one ``Entry`` to a tuple). Each ``entry.py`` is
+loaded as ``seawall.validation.entries.<case>`` (``-`` read as ``_``), the name
+it had when the entries lived inside the package. The shared helpers
+(:class:`Entry`, :func:`row`, :class:`Context`, ``_common``, ``_channel``) stay
+here. Without the checkout (seawall installed on its own) there is nothing to
+validate and ``seawall validate`` says so in one line.
 
 ``seawall validate [NAME ...]`` runs the named entries (default: all) at their
-stated resolution, stores each entry's result as ``validation/out/validate/<name>.json``
-(committed) and regenerates ``docs/validation.md`` from *all* stored results,
-so one entry can be re-run without re-running the others. Every number in
-the markdown comes from a stored result, which records the command that
-produced it, the git commit and the date.
+stated resolution, stores each entry's result as ``validation/<case>/results/<name>.json``
+and regenerates ``docs/validation.md`` from *all* stored results, so one entry
+can be re-run without re-running the others; ``--doc-only`` regenerates the
+markdown alone. Every number in the markdown comes from a stored result, which
+records the command that produced it, the git commit and the date.
 
 Tolerances are part of each entry's source, fixed before its result is seen;
 a row that misses its tolerance is reported as ``fail``, never tuned.
@@ -21,10 +32,10 @@ a row that misses its tolerance is reported as ``fail``, never tuned.
 
 import datetime
 import importlib
+import importlib.util
 import json
 import math
 import os
-import pkgutil
 import subprocess
 import sys
 import time
@@ -35,7 +46,10 @@ from ..errors import ParameterError
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(PACKAGE_DIR))
 DATA = os.path.join(ROOT, "data")
-DEFAULT_RESULTS = os.path.join(ROOT, "validation", "out", "validate")
+VALIDATION_DIR = os.path.join(ROOT, "validation")   # one folder per validated case
+#: ``None``: each entry's result is stored in its own folder, ``validation/<case>/results/``
+DEFAULT_RESULTS = None
+ENTRY_MODULES = "seawall.validation.entries"
 DEFAULT_DOC = os.path.join(ROOT, "docs", "validation.md")
 QUICK_DIR = os.path.join("runs", "validate-quick")
 
@@ -57,6 +71,12 @@ class Entry:
     order: int = 100             # position in docs/validation.md
     description: str = ""
     quick_s: float = 30.0
+    folder: str = field(default=None, compare=False)   # validation/<case>/, set when discovered
+
+    @property
+    def results_dir(self):
+        """Where ``seawall validate`` stores this entry's result by default."""
+        return os.path.join(self.folder, "results") if self.folder else None
 
     @property
     def command(self):
@@ -96,19 +116,51 @@ def row(case, quantity, reference, ref_value, value, *, error=None, kind="relati
             "pass": bool(passed), "format": fmt}
 
 
-def all_entries():
-    """All entries, discovered in seawall/validation/entries/, sorted by order then name."""
-    pkg = importlib.import_module(f"{__name__}.entries")
+def case_folders(validation_dir=None):
+    """The case folders holding an ``entry.py`` (name -> path), sorted by name."""
+    validation_dir = validation_dir or VALIDATION_DIR
+    if not os.path.isdir(validation_dir):
+        raise ParameterError(f"the validation folder is not there ({validation_dir}): seawall validate needs the "
+                             "repository checkout (validation/<case>/entry.py), not only the installed package")
+    return {name: os.path.join(validation_dir, name) for name in sorted(os.listdir(validation_dir))
+            if os.path.isfile(os.path.join(validation_dir, name, "entry.py"))}
 
+
+def entry_modules(validation_dir=None):
+    """Each case folder's ``entry.py``, imported as ``seawall.validation.entries.<case>`` (module name -> module)."""
+    folders = case_folders(validation_dir)
+    # the package they are named after (its __init__ calls back here; the nested call finds it importing)
+    package = importlib.import_module(ENTRY_MODULES)
+    modules = {}
+    for case, folder in folders.items():
+        name = f"{ENTRY_MODULES}.{case.replace('-', '_')}"
+        path = os.path.join(folder, "entry.py")
+        module = sys.modules.get(name)
+        if module is None or os.path.abspath(getattr(module, "__file__", "")) != os.path.abspath(path):
+            spec = importlib.util.spec_from_file_location(name, path)
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module
+            try:
+                spec.loader.exec_module(module)
+            except BaseException:
+                del sys.modules[name]
+                raise
+        modules[case.replace("-", "_")] = module
+        setattr(package, case.replace("-", "_"), module)
+    return modules
+
+
+def all_entries(validation_dir=None):
+    """All entries, discovered in validation/<case>/entry.py, sorted by order then name."""
     found = {}
-    for info in pkgutil.iter_modules(pkg.__path__):
-        module = importlib.import_module(f"{pkg.__name__}.{info.name}")
+    for module in entry_modules(validation_dir).values():
         entries = [getattr(module, "ENTRY", None), *getattr(module, "ENTRIES", ())]
         for entry in entries:
             if not isinstance(entry, Entry):
                 continue
             if entry.name in found:
                 raise ParameterError(f"two validation entries are named {entry.name!r}")
+            entry.folder = os.path.dirname(os.path.abspath(module.__file__))
             found[entry.name] = entry
     return dict(sorted(found.items(), key=lambda kv: (kv[1].order, kv[0])))
 
@@ -130,10 +182,16 @@ def _fmt_duration(s):
     return f"{s / 60:.1f} min" if s >= 90 else f"{s:.0f} s"
 
 
-def run_entry(entry, *, quick, results, img_dir, threads=None):
-    """Run one entry, store ``results/<name>.json`` and return the stored dict."""
+def run_entry(entry, *, quick, results=None, img_dir=None, threads=None):
+    """Run one entry, store ``results/<name>.json`` and return the stored dict (``results`` and
+    ``img_dir`` default to the entry's own ``validation/<case>/results`` and ``validation/<case>/img``)."""
     import numba
 
+    if results is None or img_dir is None:
+        if entry.folder is None:
+            raise ParameterError(f"validation entry {entry.name!r} has no folder: give results and img_dir")
+        results = results or entry.results_dir
+        img_dir = img_dir or os.path.join(entry.folder, "img")
     if threads is not None:
         numba.set_num_threads(int(threads))
     ctx = Context(quick=quick, img_dir=img_dir, threads=threads)
@@ -169,9 +227,18 @@ def _plain(obj):
     return obj
 
 
-def load_results(results):
-    """Stored results in ``results`` (name -> dict)."""
+def load_results(results, registry=None):
+    """Stored results (name -> dict): every JSON in the directory ``results``, or, when ``results``
+    is None, each entry of ``registry`` (default: all) from its own ``validation/<case>/results/``."""
     out = {}
+    if results is None:
+        for name, entry in (all_entries() if registry is None else registry).items():
+            path = os.path.join(entry.results_dir, f"{name}.json") if entry.results_dir else None
+            if path and os.path.isfile(path):
+                with open(path) as fh:
+                    data = json.load(fh)
+                out[data["name"]] = data
+        return out
     if os.path.isdir(results):
         for fname in sorted(os.listdir(results)):
             if fname.endswith(".json"):
@@ -222,10 +289,10 @@ def write_markdown(doc, stored, registry, *, title_note=""):
     doc_dir = os.path.dirname(os.path.abspath(doc))
     lines = ["# Validation", "",
              "Generated by `seawall validate` from the stored per-entry results in "
-             "`validation/out/validate/*.json`; do not edit by hand. Re-run one entry with "
+             "`validation/<case>/results/*.json`; do not edit by hand. Re-run one entry with "
              "`seawall validate NAME` (its rows are replaced, the others kept), all with `seawall validate`. "
              "Each section names the command, commit and date that produced its numbers; "
-             "tolerances are fixed in the entry's source (`seawall/validation/entries/`) before the result "
+             "tolerances are fixed in the entry's source (`validation/<case>/entry.py`) before the result "
              "is seen, and a miss is reported as **fail**, never tuned away.", ""]
     if title_note:
         lines += [title_note, ""]
@@ -276,28 +343,35 @@ def write_markdown(doc, stored, registry, *, title_note=""):
     return doc
 
 
-def run_validate(names=None, *, quick=False, results=None, doc=None, threads=None, list_only=False):
+def run_validate(names=None, *, quick=False, results=None, doc=None, threads=None, list_only=False,
+                 doc_only=False):
     """The ``seawall validate`` command. Exit code 0 when every entry ran (a failed row is a result,
-    not an error), 1 when an entry could not run."""
+    not an error), 1 when an entry could not run. ``doc_only``: regenerate the markdown from the
+    stored results without running anything."""
     registry = all_entries()
     if list_only:
         width = max(len(n) for n in registry)
         for name, e in registry.items():
             print(f"{name:<{width}}  ~{_fmt_duration(e.quick_s if quick else e.expected_s):>8}  {e.title}")
         return 0
+    if doc_only and names:
+        raise ParameterError("--doc-only runs no entry: give no NAME")
     names = list(names or registry)
     unknown = [n for n in names if n not in registry]
     if unknown:
         raise ParameterError(f"unknown validation entry {unknown[0]!r}; available: {', '.join(registry)}")
     if quick:
-        base = results or os.path.join(QUICK_DIR, "results")
-        results = base
+        results = results or os.path.join(QUICK_DIR, "results")
         doc = doc or os.path.join(QUICK_DIR, "validation.md")
-        img_dir = os.path.join(os.path.dirname(os.path.abspath(doc)), "img")
     else:
-        results = results or DEFAULT_RESULTS
         doc = doc or DEFAULT_DOC
-        img_dir = os.path.join(os.path.dirname(os.path.abspath(doc)), "img")
+    # figures beside the results: in each entry's folder (default), else beside the markdown
+    img_dir = None if results is None else os.path.join(os.path.dirname(os.path.abspath(doc)), "img")
+    title_note = "Quick smoke run (coarse, short): these are not validation results." if quick else ""
+    if doc_only:
+        write_markdown(doc, load_results(results, registry), registry, title_note=title_note)
+        print(f"wrote {doc}")
+        return 0
     total = sum((registry[n].quick_s if quick else registry[n].expected_s) for n in names)
     print(f"seawall validate: {len(names)} entr{'y' if len(names) == 1 else 'ies'}, expected about "
           f"{_fmt_duration(total)} in total (one core; less with more)", flush=True)
@@ -319,8 +393,6 @@ def run_validate(names=None, *, quick=False, results=None, doc=None, threads=Non
                   f"{_cell(r['reference_value'], r.get('format', '{:.4g}')):>10}  error {_error_cell(r):>10}  "
                   f"tol {_tolerance_cell(r):>8}  {'pass' if r['pass'] else 'FAIL'}", flush=True)
         print(f"[{n}] done in {_fmt_duration(res['duration_s'])}", flush=True)
-    write_markdown(doc, load_results(results), registry,
-                   title_note="Quick smoke run (coarse, short): these are not validation results."
-                   if quick else "")
+    write_markdown(doc, load_results(results, registry), registry, title_note=title_note)
     print(f"\nwrote {doc}")
     return status

@@ -3,7 +3,7 @@
 plates (full resolution, dx = 1 mm, 1600 particles, 810 steps): with liu2015 every
 particle stays on its rigid-translation path to 5e-13 m (the wall never acts on
 a block sliding along it). Adami and Monaghan-Kajtar on the same case: see
-docs/liu2015.md (validation/liu2015.py).
+docs/liu2015.md (validation/liu2015/run.py).
 
 cavity (fluid liu2015, 4 layers) at Re = 1, dx = L/30, c0 = 0.05 m/s: at the
 steady state (t = 0.2 s; the seed calls its run steady at 0.15 s) the largest

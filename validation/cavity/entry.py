@@ -1,0 +1,89 @@
+"""Lid-driven cavity entries ``cavity-re1`` (computed reference), ``cavity-re100`` and ``cavity-re1000`` (Ghia et al.).
+
+Each entry's description says its settings; the three share :func:`run_cavity`.
+"""
+
+from functools import partial
+
+import numpy as np
+
+from seawall import cases
+from seawall.cases.lid_cavity import centrelines
+from seawall.validation import Entry, row
+from seawall.validation._common import pyplot
+
+TOL = 0.05      # of the lid speed, fixed before the runs (the figure [Liu2015]'s Re = 1 comparison is judged by)
+
+
+def run_cavity(ctx, reynolds, t_end, c0=None):
+    n = 20 if ctx.quick else 50
+    sim = cases.build("cavity", boundary="adami-noslip", dx=1e-3 / n, reynolds=reynolds, c0=c0, threads=ctx.threads)
+    sim.add(every=t_end / 100)
+    res = sim.run(t_end / 10 if ctx.quick else t_end, progress=False)
+    if reynolds == 1:
+        ref = ctx.data("lid_driven_cavity_stokes_computed", "cavity_Re1_centerlines.csv")
+        s_u, u_ref, s_v, v_ref = ref[:, 0], ref[:, 1], ref[:, 0], ref[:, 2]
+        label = "computed Re = 1 reference (data/lid_driven_cavity_stokes_computed)"
+    else:
+        col = {100: 2, 400: 3, 1000: 4}[reynolds]
+        tu = ctx.data("ghia1982_lid_driven_cavity", "ghia1982_u_vertical_centerline.csv")
+        tv = ctx.data("ghia1982_lid_driven_cavity", "ghia1982_v_horizontal_centerline.csv")
+        s_u, u_ref, s_v, v_ref = tu[:, 1], tu[:, col], tv[:, 1], tv[:, col]
+        label = f"Ghia, Ghia & Shin 1982, Re = {reynolds}"
+    u, v = centrelines(sim, s_u, s_v)
+    rows = []
+    for name, s, got, want in (("u/U on x = L/2", s_u, u, u_ref), ("v/U on y = L/2", s_v, v, v_ref)):
+        # the wall points themselves are boundary values, not solution values
+        inside = (s > 0.0) & (s < 1.0)
+        err = np.where(inside, got - want, 0.0)
+        k = int(np.nanargmax(np.abs(err)))
+        rows.append(row(f"cavity Re = {reynolds}", f"{name}, worst of {inside.sum()} points (s = {s[k]:.3f})",
+                        label, float(want[k]), float(got[k]), error=float(err[k]), kind="% of U", tolerance=TOL,
+                        fmt="{:.4f}"))
+    ke = res["kinetic_energy"]
+    late = ke[len(ke) // 2:]
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 4), dpi=100)
+    fine = np.linspace(0, 1, 101)
+    uf, vf = centrelines(sim, fine)
+    a1.plot(u_ref, s_u, "ko", ms=3, mfc="none", label="reference")
+    a1.plot(uf, fine, "b-", lw=1.2, label=f"seawall adami-noslip, dx = L/{n}")
+    a1.set_xlabel("u/U")
+    a1.set_ylabel("y/L")
+    a1.legend(fontsize=7)
+    a2.plot(s_v, v_ref, "ko", ms=3, mfc="none", label="reference")
+    a2.plot(fine, vf, "b-", lw=1.2, label="seawall")
+    a2.set_xlabel("x/L")
+    a2.set_ylabel("v/U")
+    fig.suptitle(f"lid-driven cavity, Re = {reynolds}, t = {sim.time:.3g} s", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(ctx.plot_path(f"cavity_re{reynolds}"))
+    plt.close(fig)
+    return {"rows": rows,
+            "settings": f"case cavity, Re = {reynolds}, boundary adami-noslip, L = 1 mm, U = 1 mm/s, dx = L/{n} "
+                        f"({sim.fluid.n} fluid particles), c0 = {sim.physics.c0:g} m/s, t_end = {sim.time:g} s",
+            "notes": [f"Error: (seawall - reference) / U at the reference point with the largest deviation "
+                      f"(Shepard interpolation of the particles, seawall.sampling). Kinetic energy over the second "
+                      f"half of the run changed by {100 * (late[-1] / late[0] - 1):+.2f} % (steadiness). "
+                      f"Escaped particles: {res.summary['escaped_particles']}."]}
+
+
+_SETUP = ("Case ``cavity`` (L = 1 mm, lid U = 1 mm/s, nu = U L / Re; [Liu2015] sec. 4.2 runs Re = 1), no-slip dummy "
+          "walls (``adami-noslip``), dx = L/50, h = 1.2 dx, ")
+_QUANTITY = ("Quantity: u/U on the vertical and v/U on the horizontal centreline at the reference points; the largest "
+             "deviation. Tolerance (fixed before the run): 5 % of U.")
+
+ENTRIES = (
+    Entry(name="cavity-re1", title="Lid-driven cavity, Re = 1: centreline velocities",
+          run=partial(run_cavity, reynolds=1, t_end=2.0, c0=0.05), expected_s=170, quick_s=10, order=80,
+          description=_SETUP + "c0 = 0.05 m/s, until t = 2.0 s (two viscous times L^2 / nu). The seed's c0 = 10 U = "
+          "0.01 m/s is not used: with it the viscous stress at the lid's corners (~ rho nu U / dx) is half of "
+          "rho0 c0^2, and the run stops at t = 0.82 s with a particle in the top right corner compressed to 2 rho0. "
+          + _QUANTITY),
+    Entry(name="cavity-re100", title="Lid-driven cavity, Re = 100: centreline velocities",
+          run=partial(run_cavity, reynolds=100, t_end=30.0), expected_s=340, quick_s=10, order=81,
+          description=_SETUP + "until t = 30.0 s. " + _QUANTITY),
+    Entry(name="cavity-re1000", title="Lid-driven cavity, Re = 1000: centreline velocities",
+          run=partial(run_cavity, reynolds=1000, t_end=30.0), expected_s=320, quick_s=10, order=82,
+          description=_SETUP + "until t = 30.0 s. " + _QUANTITY),
+)
