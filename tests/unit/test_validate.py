@@ -50,11 +50,13 @@ def test_without_the_validation_folder_validate_stops_with_one_line(tmp_path, mo
 
 
 def test_old_module_names_still_import():
+    import seawall.plots_idbc
     import seawall.validation.entries.dam_break as dam_break
     from seawall.validation.entries import solitary_runup
 
     assert dam_break.ENTRY is all_entries()["dam-break"]
     assert os.path.dirname(solitary_runup.__file__) == os.path.join(ROOT, "validation", "solitary-runup")
+    assert callable(seawall.plots_idbc.main) and callable(seawall.plots_idbc.sweep)
 
 
 STAND_IN = '''
