@@ -183,12 +183,51 @@ def cmd_cases(_args):
 
 
 def cmd_boundaries(_args):
-    from .boundary.registry import BOUNDARIES
+    """One line per wall model (name, description, as before), then, indented, its ``--set`` keys with
+    their defaults and its class's options (``WallModel.options()``) with the values the name builds
+    (the constructor's default where the model keeps no attribute of that name)."""
+    from .boundary.registry import BOUNDARIES, boundary_by_name, boundary_option_defaults
 
     width = max(len(n) for n in BOUNDARIES)
+    pad = " " * (width + 2)
     for name, (_, description) in BOUNDARIES.items():
         print(f"{name:<{width}}  {description}")
+        keys = boundary_option_defaults(name)
+        print(f"{pad}--set: " + (" ".join(f"{k}={_default_text(v)}" for k, v in keys.items()) or "(none)"))
+        model = boundary_by_name(name)
+        print(f"{pad}options: {_describe(model)}")
     return 0
+
+
+def _describe(obj):
+    """``Class(option=value, ...)`` of a wall model (or of an object it holds) from its constructor's keywords."""
+    import inspect
+
+    if obj is None or isinstance(obj, (str, int, float, bool)):
+        return repr(obj)
+    if hasattr(type(obj), "option_defaults"):          # a WallModel: WallModel.options() and their defaults
+        defaults = type(obj).option_defaults()
+    else:
+        defaults = {p.name: p.default for p in inspect.signature(type(obj).__init__).parameters.values()
+                    if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
+    parts = []
+    for name, default in defaults.items():
+        if hasattr(obj, name):
+            parts.append(f"{name}={_describe(getattr(obj, name))}")
+        elif default is not inspect.Parameter.empty:
+            parts.append(f"{name}={default!r}")
+        else:
+            parts.append(name)
+    return f"{type(obj).__name__}({', '.join(parts)})"
+
+
+def _default_text(value):
+    """A --set default as typed on the command line; None: the model's (or the fluid's) own choice."""
+    if value is None:
+        return "(model)"
+    if isinstance(value, bool):
+        return str(int(value))
+    return str(value)
 
 
 def _build(args):

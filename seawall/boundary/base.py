@@ -121,9 +121,17 @@ class WallModel:
         """Names of the constructor's keyword arguments, in order."""
         import inspect
 
+        return tuple(cls.option_defaults())
+
+    @classmethod
+    def option_defaults(cls):
+        """The constructor's keyword arguments and their defaults, in order (name -> default;
+        ``inspect.Parameter.empty`` for one without a default)."""
+        import inspect
+
         params = inspect.signature(cls.__init__).parameters.values()
-        return tuple(p.name for p in params
-                     if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
+        return {p.name: p.default for p in params
+                if p.name != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
 
     def cross_terms(self, physics):
         """:attr:`fluid_terms` as the :class:`CrossTerms` flags the compiled loops read."""

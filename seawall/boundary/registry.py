@@ -138,6 +138,17 @@ BOUNDARIES = {
 }
 
 
+def boundary_option_defaults(name):
+    """The ``--set`` keys wall model ``name`` takes and their defaults (key -> default; ``None`` leaves
+    the choice to the model or the fluid)."""
+    try:
+        factory, _ = BOUNDARIES[name]
+    except KeyError:
+        raise ParameterError(f"unknown boundary {name!r}; available: {', '.join(BOUNDARIES)}") from None
+    return {p.name: p.default for p in inspect.signature(factory).parameters.values()
+            if p.kind == inspect.Parameter.KEYWORD_ONLY}
+
+
 def boundary_options(name):
     """The ``--set`` keys wall model ``name`` takes (its factory's keyword arguments)."""
     try:

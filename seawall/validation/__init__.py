@@ -169,7 +169,9 @@ def _git_commit():
     try:
         out = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
                              timeout=10)
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "seawall"], cwd=ROOT,
+        # the package and the entries' sources (their results and figures change with every run)
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "seawall",
+                                ":(glob)validation/*/entry.py"], cwd=ROOT,
                                capture_output=True, text=True, timeout=10)
         if out.returncode == 0:
             return out.stdout.strip() + ("+local changes" if dirty.stdout.strip() else "")

@@ -4,6 +4,8 @@ A model added to ``seawall.boundary.registry.BOUNDARIES`` is covered automatical
 
 * ``prepare`` / ``update`` / ``interact`` keep the shapes and dtypes of the fluid's and the
   wall's arrays and give finite rates;
+* the registry builds it and it declares the contract (layout, fluid terms, options; its ``--set``
+  keys collide with no case parameter);
 * a short run stays finite;
 * a checkpoint restarts into the uninterrupted run bit for bit;
 * the force the ``WallForce`` probe reports is minus the change of the fluid's momentum that
@@ -20,9 +22,10 @@ import numpy as np
 import pytest
 
 import seawall as sw
-from seawall.boundary.base import WallModel
-from seawall.boundary.registry import BOUNDARIES, boundary_by_name
-from seawall.cases import build
+from seawall.boundary.base import WallModel, check_contract
+from seawall.boundary.registry import BOUNDARIES, boundary_by_name, boundary_option_defaults, boundary_options
+from seawall.cases import CASES, build
+from seawall.pairs import FLUID_TERMS
 from seawall.particles import ParticleArrays
 
 MODELS = list(BOUNDARIES)
@@ -48,10 +51,22 @@ def layouts(particles):
 
 
 @pytest.mark.parametrize("boundary", MODELS)
-def test_registry_builds_a_wall_model_with_a_declared_momentum_property(boundary):
+def test_registry_builds_a_wall_model_that_declares_the_contract(boundary):
     model = boundary_by_name(boundary)
     assert isinstance(model, WallModel)
+    check_contract(model)
     assert isinstance(type(model).pairwise_momentum, bool)
+    assert model.layout in ("layers", "surface") and model.wall_layout == model.layout
+    assert set(model.fluid_terms) <= set(FLUID_TERMS)
+    assert isinstance(model.joins_summation_density, bool)
+    assert all(isinstance(a, str) for a in model.integrated_arrays)
+    options = type(model).options()
+    assert all(isinstance(o, str) for o in options) and options == tuple(type(model).option_defaults())
+    # the registry's --set keys are consumed by the factory, none collides with a case parameter
+    keys = boundary_options(boundary)
+    assert keys == tuple(boundary_option_defaults(boundary))
+    for case in CASES.values():
+        assert not set(keys) & set(case.parameters), (boundary, case.name)
 
 
 @pytest.mark.parametrize("boundary", MODELS)

@@ -24,6 +24,32 @@ def test_cases_lists_every_case(capsys):
     assert {"hydrostatic", "dam-break", "collapse", "dam-break-3d"} <= set(names)
 
 
+def test_boundaries_lists_every_model_with_its_options(capsys):
+    from seawall.boundary.registry import BOUNDARIES
+
+    code, out, _ = run_cli(["boundaries"], capsys)
+    assert code == 0
+    lines = out.rstrip("\n").splitlines()
+    # the existing lines stay: one per model, "name  description", in registry order
+    heads = [line for line in lines if not line.startswith(" ")]
+    assert [line.split()[0] for line in heads] == list(BOUNDARIES)
+    assert all(line.split(None, 1)[1] == BOUNDARIES[line.split()[0]][1] for line in heads)
+    # below each, indented: its --set keys with defaults and its class's options with the values it is built with
+    blocks = {}
+    for line in lines:
+        if not line.startswith(" "):
+            name = line.split()[0]
+            blocks[name] = []
+        else:
+            blocks[name].append(line.strip())
+    assert all(len(b) == 2 and b[0].startswith("--set: ") and b[1].startswith("options: ") for b in blocks.values())
+    assert blocks["adami-noslip"][0] == "--set: slip=noslip wall_nu=(model) clip_negative=(model)"
+    assert "density='summation'" in blocks["summation"][1] and "clip_negative_pressure=True" in blocks["summation"][1]
+    assert blocks["idbc"][1].startswith("options: ImprovedDynamicBoundary(order=7, rectangular=True,")
+    assert blocks["ghost-mls2"][1] == "options: GhostParticles(interpolation=MLS(order=2, limit=True), slip='free')"
+    assert blocks["liu2012"] == ["--set: beta=2.0", "options: Liu2012Force(beta=2.0, c=None)"]
+
+
 def test_run_writes_contract_files(tmp_path, capsys):
     out_dir = tmp_path / "run"
     code, out, _ = run_cli(["run", "hydrostatic", "--dx", "0.05", "--t-end", "0.02", "--out", str(out_dir),

@@ -36,6 +36,7 @@ def tutorial(tmp_path_factory):
 def test_tutorial_model_declares_its_contract(tutorial):
     model_class = tutorial["ShepardDummy"]
     assert model_class.options() == ("floor",)
+    assert model_class.option_defaults() == {"floor": 0.0}     # as docs/adding-a-wall-model.md says
     model = model_class()
     assert model.layout == "layers" and model.wall_layout == "layers"
     assert model.fluid_terms == {"continuity", "pressure"}

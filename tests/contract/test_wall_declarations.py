@@ -1,30 +1,17 @@
-"""The wall-model contract (seawall/boundary/base.py): every registered model declares it, and the
-declarations decide behaviour where they say they do."""
+"""The wall-model declarations (seawall/boundary/base.py) decide behaviour where they say they do.
+
+That every registered model declares the contract is checked per model in test_wall_contract.py
+(``test_registry_builds_a_wall_model_that_declares_the_contract``); here, the declarations' effects.
+"""
 
 import numpy as np
 import pytest
 
 from seawall.boundary.base import WallModel, check_contract
 from seawall.boundary.dbc import DynamicBoundary
-from seawall.boundary.registry import BOUNDARIES, boundary_by_name, boundary_options
+from seawall.boundary.registry import boundary_by_name
 from seawall.cases import CASES
 from seawall.errors import ParameterError
-from seawall.pairs import FLUID_TERMS
-
-
-@pytest.mark.parametrize("name", sorted(BOUNDARIES))
-def test_every_registered_model_declares_the_contract(name):
-    model = boundary_by_name(name)
-    check_contract(model)
-    assert model.layout in ("layers", "surface") and model.wall_layout == model.layout
-    assert set(model.fluid_terms) <= set(FLUID_TERMS)
-    assert isinstance(model.joins_summation_density, bool)
-    assert all(isinstance(a, str) for a in model.integrated_arrays)
-    assert all(isinstance(o, str) for o in type(model).options())
-    # the registry's --set keys are consumed by the factory, none collides with a case parameter
-    keys = boundary_options(name)
-    for case in CASES.values():
-        assert not set(keys) & set(case.parameters), (name, case.name)
 
 
 def test_surface_models_and_declared_terms():
