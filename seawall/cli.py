@@ -101,7 +101,12 @@ def build_parser():
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_OneLineParser)
     sub.required = True
 
-    sub.add_parser("cases", help="list the named cases")
+    cases = sub.add_parser("cases", help="list the named cases; with a NAME (or a case file), its parameters")
+    cases.add_argument("name", nargs="?", metavar="NAME", help="a case name or a case file (.py or .toml)")
+    new = sub.add_parser("new-case", help="write a commented starting case file NAME.py (or NAME.toml)")
+    new.add_argument("name", metavar="NAME", help="file to write: NAME.py, or NAME.toml with --toml")
+    new.add_argument("--toml", action="store_true", help="write the declarative TOML form instead of Python")
+    new.add_argument("--force", action="store_true", help="replace an existing file")
     sub.add_parser("boundaries", help="list the wall models")
 
     run = sub.add_parser("run", help="run a case and write probes.csv, summary.json and VTU files")
@@ -138,7 +143,7 @@ def build_parser():
     comp.add_argument("--boundaries", required=True, help="comma-separated wall models, e.g. adami,dbc,ghost-shepard")
     comp.add_argument("--dx", type=_positive("--dx"))
     comp.add_argument("--t-end", type=_positive("--t-end"))
-    comp.add_argument("--out", help="output directory (default runs/compare-CASE)")
+    comp.add_argument("--out", help="output directory (default runs/compare-CASE, CASE the case's name)")
     comp.add_argument("--jobs", type=_positive_int("--jobs"), help="models run at once (default: cores)")
     comp.add_argument("--set", action="append", metavar="KEY=VALUE", help="case parameter, given to every model")
 
@@ -158,8 +163,11 @@ def build_parser():
     plot.add_argument("run_dir")
     plot.add_argument("--time", type=_time_of_snapshot, help="snapshot time [s] (default: the last one)")
     plot.add_argument("--field", default="pressure", help="point field to colour by (default pressure)")
-    plot.add_argument("--out", help="PNG path (default RUN_DIR/snapshot.png)")
-    plot.add_argument("--probes", action="store_true", help="also draw RUN_DIR/probes.png")
+    plot.add_argument("--out", help="PNG path (default RUN_DIR/snapshot.png); the probe plot goes beside it "
+                      "as <OUT stem>_probes.png")
+    plot.add_argument("--probes", action="store_true", help="also draw the probe histories (RUN_DIR/probes.png)")
+    plot.add_argument("--clim", metavar="LO,HI", type=_clim,
+                      help="colour range of the field (default: its 1st to 99th percentile over the frame)")
 
     bench = sub.add_parser("bench", help="time a fixed number of steps; print one JSON line")
     bench.add_argument("case")
@@ -173,12 +181,51 @@ def build_parser():
     return parser
 
 
-def cmd_cases(_args):
-    from .cases import CASES
+def _clim(text):
+    parts = text.split(",")
+    try:
+        lo, hi = (float(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--clim expects LO,HI (two numbers), got {text!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+        raise argparse.ArgumentTypeError(f"--clim needs finite LO < HI, got {text!r}")
+    return lo, hi
 
+
+def cmd_cases(args):
+    from .cases import CASES, case_by_name
+
+    if args.name:
+        print(case_help(case_by_name(args.name)), end="")
+        return 0
     width = max(len(n) for n in CASES)
     for name, case in CASES.items():
         print(f"{name:<{width}}  {case.dimension}D  {case.description}")
+    return 0
+
+
+def case_help(case):
+    """``seawall cases NAME``: the case's description, run defaults and every parameter with default and unit."""
+    lines = [f"{case.name}  {case.dimension}D  {case.description}"]
+    if case.source is not None:
+        lines.append(f"  file          {case.source['path']} (sha256 {case.source['sha256'][:12]})")
+    lines.append(f"  defaults      --boundary {case.default_boundary}  --t-end {case.t_end:g}  "
+                 f"--output-every {case.output_every:g}  --probe-every {case.probe_every:g}")
+    lines.append("  parameters (--set KEY=VALUE):")
+    rows = [(key, "(case)" if p.default is None else _default_text(p.default), p.units, p.kind.__name__, p.doc)
+            for key, p in case.parameters.items()]
+    wk = max((len(r[0]) for r in rows), default=0)
+    wd = max((len(r[1]) for r in rows), default=0)
+    wu = max((len(r[2]) for r in rows), default=0)
+    for key, default, unit, kind, doc in rows:
+        lines.append(f"    {key:<{wk}}  {default:<{wd}}  {unit or '-':<{max(wu, 1)}}  {kind:<5}  {doc}")
+    return "\n".join(lines) + "\n"
+
+
+def cmd_new_case(args):
+    from .cases.templates import write_template
+
+    print(write_template(args.name, toml=args.toml, force=args.force))
     return 0
 
 
@@ -449,7 +496,9 @@ def _print_summary(s):
 def cmd_compare(args):
     from .compare import compare
 
-    out = args.out or os.path.join("runs", f"compare-{args.case}")
+    from .cases import case_by_name
+
+    out = args.out or os.path.join("runs", f"compare-{case_by_name(args.case).name}")
     boundaries = [b.strip() for b in args.boundaries.split(",") if b.strip()]
     print(f"seawall compare {args.case}: {', '.join(boundaries)} -> {out}", flush=True)
     rows = compare(args.case, boundaries, out=out, dx=args.dx, t_end=args.t_end, params=_parse_sets(args.set),
@@ -528,7 +577,7 @@ def main(argv=None):
     args.argv = ["seawall", *(sys.argv[1:] if argv is None else argv)]
     args.running = {}   # the simulation of `run`, for the signal handler
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
-                "plot": cmd_plot, "compare": cmd_compare,
+                "plot": cmd_plot, "compare": cmd_compare, "new-case": cmd_new_case,
                 "validate": cmd_validate}
     try:
         if args.command == "run":

@@ -16,7 +16,7 @@ import numpy as np
 from .errors import ParameterError
 
 #: metadata entries that define the run (as opposed to provenance and derived numbers)
-SETUP_KEYS = ("case", "boundary", "boundary_options", "parameters")
+SETUP_KEYS = ("case", "case_sha256", "boundary", "boundary_options", "parameters")
 
 
 def _plain(value):

@@ -1,7 +1,7 @@
 """The named cases, one definition each, shared by the CLI, tests, benchmarks and validation."""
 
 from ..errors import ParameterError
-from .base import Case, Parameter
+from .base import Case, Parameter, tank_wall
 from .channels import CHANNEL, PIPE_3D
 from .dem_box import DEM_BOX
 from .flows import COUETTE, ELLIPTICAL_DROP, POISEUILLE, TAYLOR_GREEN
@@ -21,16 +21,21 @@ CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PAR
 
 
 def case_by_name(name):
-    """Return the :class:`Case` called ``name``."""
+    """Return the :class:`Case` called ``name``, or the case of the file ``name`` (``.py`` or ``.toml``)."""
+    from .files import is_case_file, load_case_file
+
+    if name not in CASES and is_case_file(name):
+        return load_case_file(name)
     try:
         return CASES[name]
     except KeyError:
-        raise ParameterError(f"unknown case {name!r}; available: {', '.join(CASES)}") from None
+        raise ParameterError(f"unknown case {name!r}; available: {', '.join(CASES)} "
+                             f"(or a case file ending in .py or .toml)") from None
 
 
 def build(name, **params):
-    """Build case ``name`` (see ``seawall cases``) and return its Simulation."""
+    """Build case ``name`` (see ``seawall cases``; or a case file's path) and return its Simulation."""
     return case_by_name(name).build(**params)
 
 
-__all__ = ["CASES", "Case", "Parameter", "case_by_name", "build"]
+__all__ = ["CASES", "Case", "Parameter", "case_by_name", "build", "tank_wall"]

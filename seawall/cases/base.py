@@ -6,6 +6,7 @@ ready :class:`~seawall.Simulation` carrying its probes and metadata.
 """
 
 import math
+import re
 from dataclasses import dataclass, field
 
 from ..boundary.registry import boundary_by_name, boundary_options
@@ -16,9 +17,26 @@ GRAVITY = 9.81
 
 @dataclass
 class Parameter:
+    """A case parameter: its default, a one-line help text, its type and its unit.
+
+    ``unit`` may be left empty when the help text names the unit in square
+    brackets ("column height [m]"); :attr:`units` returns either.
+    """
+
     default: object
     doc: str
     kind: type = float
+    unit: str = ""
+
+    @property
+    def units(self):
+        """The unit: ``unit`` if given, else the first ``[...]`` of the help text ("" if none)."""
+        if self.unit:
+            return self.unit
+        for found in re.finditer(r"\[([^\]]+)\]", self.doc):
+            if not re.fullmatch(r"[A-Z][A-Za-z]+\d{4}[a-z]?", found.group(1)):   # a citation key, not a unit
+                return found.group(1)
+        return ""
 
 
 @dataclass
@@ -40,6 +58,8 @@ class Case:
     dimension: int = 2
     #: wall model used when none is named (cases whose physics needs no slip default to a no-slip model)
     default_boundary: str = "adami"
+    #: a case read from a file: {"path": ..., "sha256": ...} (None for the built-in cases)
+    source: dict = None
 
     def resolve(self, overrides):
         params = {}
@@ -103,6 +123,10 @@ class Case:
                 wall.adhesion_coefficient = beta
         sim.metadata.update({"case": self.name, "boundary": boundary if isinstance(boundary, str) else "custom",
                              "parameters": params, "boundary_options": given_options})
+        if self.source is not None:
+            # the path says where it came from; the hash is part of the set-up a restart must match
+            sim.metadata["case_file"] = self.source["path"]
+            sim.metadata["case_sha256"] = self.source["sha256"]
         return sim
 
 
