@@ -13,7 +13,9 @@ import os as _os
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from . import boundary, shapes  # noqa: E402
-from .boundary import DummyParticles, WallSystem
+from .boundary import (DummyParticles, DynamicBoundary, GhostParticles, ImprovedDynamicBoundary, ImprovedShepard,
+                       Liu2012Force, Liu2015Wall, MLS, MonaghanKajtar, Normalised, PrescribedMotion, SFDI, WallModel,
+                       WallSystem)
 from .eos import Linear, Tait
 from .errors import InstabilityError, ParameterError, SeawallError
 from .fluid import ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi
@@ -22,12 +24,18 @@ from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC
 from . import coupling, probes, output
 from .simulation import RunResult, Simulation
 from .openboundary import InFlow, Lastiwka, OpenBoundary, OutFlow
+from .probes import KineticEnergy, Pressure, PressureSensor, SurgeFront, TotalMass, WallForce, WallPressure
+from .output import VTK, Checkpoint
 from . import cases  # noqa: E402  (sw.cases.build("dam-break", ...), as the README shows)
 
 __version__ = "0.1.0"
 
 __all__ = [
     "FluidSystem", "WallSystem", "Simulation", "RunResult", "DummyParticles",
+    "WallModel", "GhostParticles", "DynamicBoundary", "ImprovedDynamicBoundary", "MonaghanKajtar", "Liu2012Force",
+    "Liu2015Wall", "MLS", "SFDI", "Normalised", "ImprovedShepard", "PrescribedMotion",
+    "WallPressure", "Pressure", "PressureSensor", "WallForce", "SurgeFront", "KineticEnergy", "TotalMass",
+    "VTK", "Checkpoint",
     "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
     "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
     "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output", "coupling",

@@ -134,6 +134,10 @@ def build_parser():
                           "(a segment in 2D; default one kernel support) on the wall at the point; column "
                           "sensor:<k> in probes.csv (repeatable)")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
+    run.add_argument("--vtk-float32", action="store_true",
+                     help="VTU floating-point arrays and positions in single precision (about half the size)")
+    run.add_argument("--vtk-uncompressed", action="store_true",
+                     help="VTU arrays without zlib compression (the default compresses them)")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.add_argument("--diagnostics", action="store_true",
                      help="also record the smallest fluid-to-wall distance (probe min_wall_distance_dx)")
@@ -360,7 +364,8 @@ def cmd_run(args):
     if args.restart:
         sim.metadata["restarted_from"] = {"checkpoint": args.restart, "time": sim.time, "step": sim.step}
     if not args.no_vtk:
-        sim.add(output.VTK(out, every=args.output_every or case.output_every))
+        sim.add(output.VTK(out, every=args.output_every or case.output_every, compress=not args.vtk_uncompressed,
+                           float32=args.vtk_float32))
     checkpoint = output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0)
     sim.add(checkpoint)
     line_files = []
@@ -400,6 +405,8 @@ def cmd_run(args):
         if hasattr(sim, "fluid"):
             summary["diagnostics"] = _diagnostics(sim, result)
     summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
+                        "wall_series": [] if args.no_vtk or not hasattr(sim, "fluid") else
+                        [f"wall_{w.name}.pvd" for w in sim.walls],
                         "checkpoint": "checkpoint.h5", "escaped": "escaped.csv",
                         **({"lines": line_files} if line_files else {})}
     for name, write in (("escaped.csv", lambda path: _write_escaped(path, sim)),

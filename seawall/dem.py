@@ -385,7 +385,7 @@ class DEMVTK(VTK):
 
     @classmethod
     def like(cls, vtk):
-        return cls(vtk.directory, every=vtk.every, walls=vtk.walls)
+        return cls(vtk.directory, every=vtk.every, walls=vtk.walls, compress=vtk.compress, float32=vtk.float32)
 
     def open(self, sim, resume_after=None):
         from .io.vtk import PVDSeries
@@ -397,12 +397,14 @@ class DEMVTK(VTK):
             self.next_time = first_due_after(resume_after, self.every)
         elif self.walls:
             for w in sim.walls:   # fixed: written once
-                PVDSeries(self.directory, f"wall_{w.name}").write(0.0, w.x, {"radius": w.radius})
+                PVDSeries(self.directory, f"wall_{w.name}").write(0.0, w.x, {"radius": w.radius},
+                                                                  compress=self.compress, float32=self.float32)
 
     def write(self, sim):
         pa = sim.dem.particles
         self._elements.write(sim.time, pa["x"], {"velocity": pa["v"], "radius": pa["radius"],
-                                                 "overlap": pa["overlap"], "id": pa["id"]})
+                                                 "overlap": pa["overlap"], "id": pa["id"]},
+                                 field_data={"TimeValue": sim.time}, compress=self.compress, float32=self.float32)
         self.next_time = next_due(self.next_time, self.every, sim.time)
 
     def last_time(self):

@@ -393,13 +393,22 @@ class Runner:
         return self
 
 
+def _in_notebook():
+    """Whether we run in a Jupyter kernel (its stderr is no terminal, but a person is watching)."""
+    shell = sys.modules.get("IPython")
+    try:
+        return shell is not None and type(shell.get_ipython()).__name__ == "ZMQInteractiveShell"
+    except Exception:
+        return False
+
+
 def _progress_bar(t_end, t_start, enabled):
     if not enabled:
         return None
-    from tqdm import tqdm
+    from tqdm.auto import tqdm   # a widget in a notebook, text in a terminal
 
-    # in a terminal the bar redraws twice a second; in a log file one line every 30 s is plenty
-    interactive = sys.stderr.isatty()
+    # in a terminal or a notebook the bar redraws twice a second; in a log file one line every 30 s is plenty
+    interactive = sys.stderr.isatty() or _in_notebook()
     return tqdm(total=round(t_end, 6), initial=round(t_start, 6), unit="s", file=sys.stderr,
                 bar_format="{l_bar}{bar}| {n:.4f}/{total:.4f} s simulated [{elapsed}<{remaining}{postfix}]",
                 dynamic_ncols=True, mininterval=0.5 if interactive else 30.0)

@@ -7,8 +7,15 @@ can build any model by name.
 from .base import EvaluationContext, WallModel, WallSystem
 from .dbc import DynamicBoundary, ImprovedDynamicBoundary
 from .dummy import DummyParticles
+from .ghost import GhostParticles
+from .interpolation import MLS, SFDI, ImprovedShepard, Interpolation, Normalised
+from .liu2012 import Liu2012Force
+from .liu2015 import Liu2015Wall
+from .movement import PrescribedMotion
+from .repulsive import MonaghanKajtar
 from .registry import BOUNDARIES, boundary_by_name
 
 __all__ = ["WallModel", "WallSystem", "EvaluationContext", "DummyParticles", "DynamicBoundary",
-           "ImprovedDynamicBoundary", "BOUNDARIES",
+           "ImprovedDynamicBoundary", "GhostParticles", "MonaghanKajtar", "Liu2012Force", "Liu2015Wall",
+           "Interpolation", "MLS", "SFDI", "Normalised", "ImprovedShepard", "PrescribedMotion", "BOUNDARIES",
            "boundary_by_name"]

@@ -3,23 +3,33 @@
 Only numpy and the standard library are used. Every particle is written as
 its own VTK_VERTEX cell, arrays use the inline ``binary`` encoding (base64 of
 a UInt64 byte count followed by the little-endian payload, encoded as one
-stream like VTK itself does), and every file is written to a temporary file
-in the target directory and then renamed over the target, so readers never
-see a half-written file.
+stream like VTK itself does; with ``compress=True`` the payload is split in
+blocks of 32 KiB compressed by zlib, with VTK's block header -- number of
+blocks, block size, last block size, compressed sizes -- encoded before it,
+``compressor="vtkZLibDataCompressor"``), and every file is written to a
+temporary file in the target directory and then renamed over the target, so
+readers never see a half-written file.
+
+Metadata: numbers go to the grid's ``FieldData`` (ParaView shows them, and
+reads ``TimeValue`` as the time); text metadata (model, version, the
+pressure convention) is a JSON object in an XML comment ``<!-- seawall
+{...} -->`` after the XML declaration, read back by :func:`read_vtu_metadata`.
 """
 
 import base64
 import contextlib
+import json
 import math
 import os
 import re
 import uuid
+import zlib
 import xml.etree.ElementTree as ET
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-__all__ = ["write_vtu", "read_vtu", "PVDSeries"]
+__all__ = ["write_vtu", "read_vtu", "read_vtu_metadata", "PVDSeries"]
 
 _VTK_VERTEX = 1
 
@@ -99,19 +109,37 @@ def _vtk_type_of(dtype):
                     "(use float, integer or bool arrays)")
 
 
-def _encode(array):
-    """Inline ``binary`` payload: base64(UInt64 byte count + raw bytes)."""
+#: uncompressed bytes per zlib block (VTK's own default)
+_BLOCK = 32768
+_ZLIB = "vtkZLibDataCompressor"
+
+
+def _encode(array, compress=False):
+    """Inline ``binary`` payload: base64(UInt64 byte count + raw bytes), or with ``compress``
+    base64(block header) + base64(zlib blocks) as VTK writes compressed inline data."""
     raw = np.ascontiguousarray(array).tobytes()
-    header = np.array([len(raw)], dtype=_HEADER_TYPES[_HEADER_TYPE]).tobytes()
-    return base64.b64encode(header + raw).decode("ascii")
+    htype = _HEADER_TYPES[_HEADER_TYPE]
+    if not compress:
+        header = np.array([len(raw)], dtype=htype).tobytes()
+        return base64.b64encode(header + raw).decode("ascii")
+    blocks = [zlib.compress(raw[k:k + _BLOCK], 6) for k in range(0, len(raw), _BLOCK)]
+    last = len(raw) - _BLOCK * (len(blocks) - 1) if blocks else 0
+    header = np.array([len(blocks), _BLOCK, last, *(len(b) for b in blocks)], dtype=htype).tobytes()
+    return base64.b64encode(header).decode("ascii") + base64.b64encode(b"".join(blocks)).decode("ascii")
 
 
-def _data_array(fh, array, ncomp, name=None, indent="        "):
+def _data_array(fh, array, ncomp, name=None, indent="        ", compress=False):
     vtk_type, dtype = _vtk_type_of(array.dtype)
     array = np.asarray(array, dtype=dtype)
     name_attr = f" Name={quoteattr(name)}" if name is not None else ""
     fh.write(f'{indent}<DataArray type="{vtk_type}"{name_attr} NumberOfComponents="{ncomp}" '
-             f'format="binary">\n{indent}  {_encode(array)}\n{indent}</DataArray>\n')
+             f'format="binary">\n{indent}  {_encode(array, compress)}\n{indent}</DataArray>\n')
+
+
+def _metadata_comment(metadata):
+    """The XML comment holding ``metadata`` as JSON ('--' may not appear in a comment: escaped in the JSON)."""
+    text = json.dumps(metadata, sort_keys=True, default=str).replace("--", "-\\u002d")
+    return f"<!-- seawall {text} -->\n"
 
 
 def _as_points(positions):
@@ -144,38 +172,61 @@ def _as_point_array(name, value, n):
     return arr, ncomp
 
 
-def write_vtu(path, positions, point_data=None):
+def write_vtu(path, positions, point_data=None, *, field_data=None, metadata=None, compress=False,
+              float32=False):
     """Write particles as a VTK XML UnstructuredGrid of vertex cells.
 
     ``positions`` is (N, 2) or (N, 3) (2D is padded with z = 0). ``point_data``
     maps names to (N,) scalars or (N, d) vectors (d = 2 is padded to 3).
-    Float32 arrays stay Float32, other floats become Float64, integers keep
-    their width, bool becomes UInt8. Returns the path written.
+    Float32 arrays stay Float32, other floats become Float64 (Float32 with
+    ``float32=True``, points included), integers keep their width, bool
+    becomes UInt8. ``field_data`` maps names to numbers or 1D arrays of
+    numbers (the grid's FieldData, e.g. ``TimeValue``); ``metadata`` is a
+    JSON-able dict stored in an XML comment (see :func:`read_vtu_metadata`).
+    ``compress=True``: zlib-compressed arrays. Returns the path written.
     """
     points = _as_points(positions)
     n = points.shape[0]
     arrays = [(name, *_as_point_array(name, value, n))
               for name, value in (point_data or {}).items()]
+    fields = []
+    for name, value in (field_data or {}).items():
+        arr = np.atleast_1d(np.asarray(value, dtype=np.float64))
+        if arr.ndim != 1 or not name:
+            raise ValueError(f"field data {name!r} must be a number or a 1D array, got shape {arr.shape}")
+        fields.append((name, arr))
+    if float32:
+        points = points.astype("<f4")
+        arrays = [(name, arr.astype("<f4") if arr.dtype.kind == "f" else arr, ncomp) for name, arr, ncomp in arrays]
 
     path = os.fspath(path)
     with _atomic_write(path, "w", encoding="ascii", newline="\n") as fh:
-        fh.write('<?xml version="1.0"?>\n'
-                 '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
-                 f'header_type="{_HEADER_TYPE}">\n'
-                 '  <UnstructuredGrid>\n'
-                 f'    <Piece NumberOfPoints="{n}" NumberOfCells="{n}">\n'
+        fh.write('<?xml version="1.0"?>\n')
+        if metadata:
+            fh.write(_metadata_comment(metadata))
+        fh.write('<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
+                 f'header_type="{_HEADER_TYPE}"' + (f' compressor="{_ZLIB}"' if compress else '') + '>\n'
+                 '  <UnstructuredGrid>\n')
+        if fields:
+            fh.write('    <FieldData>\n')
+            for name, arr in fields:
+                values = " ".join(repr(float(v)) for v in arr)
+                fh.write(f'      <DataArray type="Float64" Name={quoteattr(name)} NumberOfTuples="{arr.size}" '
+                         f'format="ascii">{values}</DataArray>\n')
+            fh.write('    </FieldData>\n')
+        fh.write(f'    <Piece NumberOfPoints="{n}" NumberOfCells="{n}">\n'
                  '      <PointData>\n')
         for name, arr, ncomp in arrays:
-            _data_array(fh, arr, ncomp, name)
+            _data_array(fh, arr, ncomp, name, compress=compress)
         fh.write('      </PointData>\n'
                  '      <Points>\n')
-        _data_array(fh, points, 3, "Points")
+        _data_array(fh, points, 3, "Points", compress=compress)
         fh.write('      </Points>\n'
                  '      <Cells>\n')
         ids = np.arange(n, dtype="<i8")
-        _data_array(fh, ids, 1, "connectivity")
-        _data_array(fh, ids + 1, 1, "offsets")
-        _data_array(fh, np.full(n, _VTK_VERTEX, dtype="<u1"), 1, "types")
+        _data_array(fh, ids, 1, "connectivity", compress=compress)
+        _data_array(fh, ids + 1, 1, "offsets", compress=compress)
+        _data_array(fh, np.full(n, _VTK_VERTEX, dtype="<u1"), 1, "types", compress=compress)
         fh.write('      </Cells>\n'
                  '    </Piece>\n'
                  '  </UnstructuredGrid>\n'
@@ -208,13 +259,48 @@ def _decode(text, dtype, header_dtype, where):
     return np.frombuffer(payload[:nbytes], dtype=dtype).copy()
 
 
-def _read_data_array(elem, header_dtype, where):
+def _b64(text, where):
+    try:
+        return base64.b64decode(text)
+    except ValueError as exc:
+        raise ValueError(f"{where}: invalid base64 data ({exc})") from None
+
+
+def _decode_zlib(text, dtype, header_dtype, where):
+    """Inline compressed data: base64(header [nblocks, block size, last size, sizes...]) + base64(blocks)."""
+    text = "".join(text.split())
+    hsize = header_dtype.itemsize
+    first = 4 * math.ceil(3 * hsize / 3)
+    if len(text) < first:
+        raise ValueError(f"{where}: compressed data array is truncated")
+    nblocks = int(np.frombuffer(_b64(text[:first], where)[:hsize], header_dtype)[0])
+    hchars = 4 * math.ceil((3 + nblocks) * hsize / 3)
+    header = np.frombuffer(_b64(text[:hchars], where)[:(3 + nblocks) * hsize], header_dtype)
+    if header.size != 3 + nblocks:
+        raise ValueError(f"{where}: compressed data header is truncated")
+    blob = _b64(text[hchars:], where)
+    out, pos = [], 0
+    try:
+        for size in header[3:]:
+            out.append(zlib.decompress(blob[pos:pos + int(size)]))
+            pos += int(size)
+    except zlib.error as exc:
+        raise ValueError(f"{where}: damaged compressed data ({exc})") from None
+    raw = b"".join(out)
+    if len(raw) % dtype.itemsize:
+        raise ValueError(f"{where}: compressed data holds {len(raw)} bytes, not whole {dtype} values")
+    return np.frombuffer(raw, dtype=dtype).copy()
+
+
+def _read_data_array(elem, header_dtype, where, compressed=False):
     vtk_type = elem.get("type")
     if vtk_type not in _VTK_TYPES:
         raise ValueError(f"{where}: unsupported DataArray type {vtk_type!r}")
     dtype = _VTK_TYPES[vtk_type]
     fmt = elem.get("format", "ascii")
-    if fmt == "binary":
+    if fmt == "binary" and compressed:
+        flat = _decode_zlib(elem.text or "", dtype, header_dtype, where)
+    elif fmt == "binary":
         flat = _decode(elem.text or "", dtype, header_dtype, where)
     elif fmt == "ascii":
         flat = np.array((elem.text or "").split(), dtype=dtype)
@@ -242,8 +328,10 @@ def read_vtu(path):
         raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
     if root.tag != "VTKFile" or root.get("type") != "UnstructuredGrid":
         raise ValueError(f"{path} is not a VTK XML UnstructuredGrid file")
-    if root.get("compressor"):
-        raise ValueError(f"{path}: compressed VTU files are not supported")
+    compressor = root.get("compressor")
+    if compressor and compressor != _ZLIB:
+        raise ValueError(f"{path}: compressor {compressor!r} is not supported (only {_ZLIB})")
+    compressed = bool(compressor)
     if root.get("byte_order", "LittleEndian") != "LittleEndian":
         raise ValueError(f"{path}: only LittleEndian VTU files are supported")
     header_name = root.get("header_type", "UInt32")
@@ -259,7 +347,7 @@ def read_vtu(path):
     pts_elem = piece.find("./Points/DataArray")
     if pts_elem is None:
         raise ValueError(f"{path}: no Points array")
-    flat, ncomp = _read_data_array(pts_elem, header_dtype, f"{path}: Points")
+    flat, ncomp = _read_data_array(pts_elem, header_dtype, f"{path}: Points", compressed)
     if ncomp != 3 or flat.size != 3 * n:
         raise ValueError(f"{path}: Points array does not hold {n} 3D points")
     positions = flat.reshape(n, 3).astype(np.float64, copy=False)
@@ -267,12 +355,35 @@ def read_vtu(path):
     data = {}
     for elem in piece.findall("./PointData/DataArray"):
         name = elem.get("Name")
-        flat, ncomp = _read_data_array(elem, header_dtype, f"{path}: point data {name!r}")
+        flat, ncomp = _read_data_array(elem, header_dtype, f"{path}: point data {name!r}", compressed)
         if flat.size != n * ncomp:
             raise ValueError(f"{path}: point data {name!r} has {flat.size} values, "
                              f"expected {n * ncomp}")
         data[name] = flat if ncomp == 1 else flat.reshape(n, ncomp)
     return positions, data
+
+
+def read_vtu_metadata(path):
+    """The metadata of a .vtu written by :func:`write_vtu`: the FieldData numbers (name -> float, or a list
+    for several values) and the entries of the ``<!-- seawall {...} -->`` comment; {} if it has neither."""
+    path = os.fspath(path)
+    with open(path, "r", encoding="ascii", errors="replace") as fh:
+        head = fh.read(4096)
+    out = {}
+    found = re.search(r"<!-- seawall (\{.*?\}) -->", head)
+    if found:
+        try:
+            out.update(json.loads(found.group(1)))
+        except ValueError:
+            raise ValueError(f"{path}: the seawall metadata comment is not valid JSON") from None
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
+    for elem in root.findall("./UnstructuredGrid/FieldData/DataArray"):
+        values = [float(v) for v in (elem.text or "").split()]
+        out[elem.get("Name")] = values[0] if len(values) == 1 else values
+    return out
 
 
 # --------------------------------------------------------------------------
@@ -312,14 +423,14 @@ class PVDSeries:
         """List of (time, filename relative to the .pvd directory)."""
         return list(self._entries)
 
-    def write(self, time, positions, point_data=None):
-        """Write one snapshot at ``time``; returns the .vtu path."""
+    def write(self, time, positions, point_data=None, **options):
+        """Write one snapshot at ``time``; returns the .vtu path (``options``: those of :func:`write_vtu`)."""
         time = float(time)
         if not math.isfinite(time):
             raise ValueError(f"snapshot time must be finite, got {time!r}")
         filename = f"{self.name}_{self._next_index:05d}.vtu"
         path = os.path.join(self.directory, filename)
-        write_vtu(path, positions, point_data)
+        write_vtu(path, positions, point_data, **options)
         self._entries.append((time, filename))
         self._next_index += 1
         self._write_pvd()
