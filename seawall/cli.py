@@ -401,7 +401,10 @@ def cmd_run(args):
     if error:
         summary["error"] = error
     if hasattr(result, "probes"):
+        from .probes import probe_unit
+
         summary["probes"] = _probe_summary(result)
+        summary["probe_units"] = {p.name: probe_unit(p, sim.dim) for p in sim.probes}
         if hasattr(sim, "fluid"):
             summary["diagnostics"] = _diagnostics(sim, result)
     summary["files"] = {"probes": "probes.csv", "fluid_series": None if args.no_vtk else "fluid.pvd",
@@ -526,11 +529,16 @@ def cmd_plot(args):
     from .errors import ParameterError
 
     out = args.out or os.path.join(args.run_dir, "snapshot.png")
+    # the probe plot follows --out: beside it as <stem>_probes.png (RUN_DIR/probes.png without --out)
+    probes_png = (os.path.splitext(args.out)[0] + "_probes.png" if args.out
+                  else os.path.join(args.run_dir, "probes.png"))
     try:
-        plots.snapshot(args.run_dir, out, time=args.time, field=args.field)
+        if os.path.dirname(out):
+            os.makedirs(os.path.dirname(out), exist_ok=True)
+        plots.snapshot(args.run_dir, out, time=args.time, field=args.field, clim=args.clim)
         print(out)
         if args.probes:
-            print(plots.probe_histories(args.run_dir, os.path.join(args.run_dir, "probes.png")))
+            print(plots.probe_histories(args.run_dir, probes_png))
     except (FileNotFoundError, ValueError) as exc:
         raise ParameterError(str(exc)) from None
     return 0

@@ -54,6 +54,8 @@ COLUMNS = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressu
 class MinWallDistance(Probe):
     """Probe: smallest signed distance of a fluid particle to any wall surface, in particle spacings."""
 
+    unit = "dx"
+
     def __init__(self, name="min_wall_distance_dx"):
         super().__init__(name)
 

@@ -416,6 +416,8 @@ class DEMVTK(VTK):
 class DEMKineticEnergy(Probe):
     """Total kinetic energy of the DEM elements [J (per metre in 2D)]."""
 
+    unit = "J"
+
     def __init__(self, name="kinetic_energy"):
         super().__init__(name)
 
@@ -427,6 +429,8 @@ class DEMKineticEnergy(Probe):
 class LowestBottom(Probe):
     """Lowest point of any element (centre minus radius, along the last axis) [m]."""
 
+    unit = "m"
+
     def __init__(self, name="lowest_bottom"):
         super().__init__(name)
 
@@ -437,6 +441,8 @@ class LowestBottom(Probe):
 
 class MaxOverlap(Probe):
     """Largest contact overlap divided by the element's radius."""
+
+    unit = "m"
 
     def __init__(self, name="max_overlap"):
         super().__init__(name)

@@ -794,6 +794,8 @@ class FluidCount(Probe):
 class MaxSpeed(Probe):
     """Largest particle speed |v| of the fluid, zone particles excluded [m/s]."""
 
+    unit = "m/s"
+
     def __init__(self, name="max_speed"):
         super().__init__(name)
 

@@ -69,7 +69,13 @@ def interpolate_pressure(layout, points, accel, xf, pf, rhof, start, order, lo, 
 
 
 class Probe:
-    """Base class: a named scalar sampled during the run."""
+    """Base class: a named scalar sampled during the run.
+
+    ``unit``: the unit of the sampled value ("" if none); a force, energy or
+    mass of a 2D run is per metre of depth (:func:`probe_unit`).
+    """
+
+    unit = ""
 
     def __init__(self, name):
         if not isinstance(name, str) or not name or "," in name:
@@ -80,8 +86,19 @@ class Probe:
         raise NotImplementedError
 
 
+#: units that are per metre of depth in a 2D run
+PER_DEPTH = ("N", "J", "kg")
+
+
+def probe_unit(probe, dim):
+    """The unit of ``probe``'s values in a ``dim``-D run: "N/m" for a 2D force (per metre of depth), ..."""
+    unit = getattr(probe, "unit", "") or ""
+    return f"{unit}/m" if dim == 2 and unit in PER_DEPTH else unit
+
+
 class _PointPressure(Probe):
     hydrostatic = False
+    unit = "Pa"
 
     def __init__(self, name, point):
         super().__init__(name)
@@ -143,6 +160,8 @@ class PressureSensor(Probe):
     diameter : float, optional
         Face diameter (segment length in 2D) [m]; default one kernel support.
     """
+
+    unit = "Pa"
 
     def __init__(self, name, point, diameter=None):
         super().__init__(name)
@@ -230,6 +249,8 @@ class Pressure(_PointPressure):
 class SurgeFront(Probe):
     """Position of the foremost fluid particle along ``axis`` [m] (max, or min if direction < 0)."""
 
+    unit = "m"
+
     def __init__(self, name="front", axis=0, direction=1):
         super().__init__(name)
         self.axis = int(axis)
@@ -251,6 +272,8 @@ class WallForce(Probe):
     of [Huang2019] eq. 29 for a momentum-conserving wall model).
     """
 
+    unit = "N"
+
     def __init__(self, name, wall, axis=0):
         super().__init__(name)
         self.wall = str(wall)
@@ -263,6 +286,8 @@ class WallForce(Probe):
 class KineticEnergy(Probe):
     """Total kinetic energy of the fluid, sum m |v|^2 / 2 [J] (per metre of depth in 2D)."""
 
+    unit = "J"
+
     def __init__(self, name="kinetic_energy"):
         super().__init__(name)
 
@@ -273,6 +298,8 @@ class KineticEnergy(Probe):
 
 class TotalMass(Probe):
     """Total mass of the fluid particles still in the domain [kg] (per metre in 2D)."""
+
+    unit = "kg"
 
     def __init__(self, name="mass"):
         super().__init__(name)

@@ -276,6 +276,8 @@ class SurfaceGauge(Probe):
     Returns NaN where no fluid lies within the kernel support of the line.
     """
 
+    unit = "m"
+
     def __init__(self, name, x, still_level=0.0, resolution=0.02):
         super().__init__(name)
         self.x = float(x)
@@ -321,6 +323,8 @@ class RunUp(Probe):
     With ``follow`` (a wall name) the segment moves with that wall's
     displacement (x - x0 of its first particle).
     """
+
+    unit = "m"
 
     def __init__(self, name, a, b, still_level=0.0, band=None, follow=None):
         super().__init__(name)
@@ -391,6 +395,8 @@ def _extrapolated_pressure(sim, points, accel):
 class FollowingWallPressure(Probe):
     """Wall pressure [Pa] at ``point`` on the wall ``follow``, moving with it (Adami extrapolation, as WallPressure)."""
 
+    unit = "Pa"
+
     def __init__(self, name, point, follow):
         super().__init__(name)
         self.point = np.asarray(point, dtype=np.float64)
@@ -412,6 +418,8 @@ class WallPressureForce(Probe):
     Dry points read zero. This is the second way the issue asks to measure the
     wall force, beside the pairwise form of [Huang2019] eq. 29 (:class:`~seawall.probes.WallForce`).
     """
+
+    unit = "N"
 
     def __init__(self, name, a, b, outward, axis=0, n=50, follow=None):
         super().__init__(name)
