@@ -1,0 +1,116 @@
+"""VTU output: zlib compression, float32, metadata and FieldData; plot colour range, probe units, --out."""
+
+import json
+import os
+import zlib
+
+import numpy as np
+import pytest
+
+from seawall.cli import main
+from seawall.io import PVDSeries, read_vtu, write_probes_csv, write_vtu
+from seawall.io.vtk import read_vtu_metadata
+
+
+def _data(n, seed=0):
+    rng = np.random.default_rng(seed)
+    return rng.random((n, 2)), {"pressure": rng.normal(0, 1e3, n), "velocity": rng.random((n, 2)),
+                                "id": np.arange(n, dtype=np.int64), "flag": rng.random(n) > 0.5}
+
+
+@pytest.mark.parametrize("n", [0, 1, 5000, 70_000])   # 70 000 float64 = 560 KB: 18 zlib blocks of 32 KiB
+def test_compressed_files_read_back_exactly(tmp_path, n):
+    x, data = _data(n)
+    path = write_vtu(tmp_path / "a.vtu", x, data, compress=True)
+    assert 'compressor="vtkZLibDataCompressor"' in open(path).read(400)
+    pos, back = read_vtu(path)
+    np.testing.assert_array_equal(pos[:, :2], x)
+    for name in ("pressure", "id"):
+        np.testing.assert_array_equal(back[name], data[name])
+    np.testing.assert_array_equal(back["velocity"][:, :2], data["velocity"])
+    np.testing.assert_array_equal(back["flag"], data["flag"].astype(np.uint8))
+
+
+def test_compression_and_float32_shrink_the_file(tmp_path):
+    x, data = _data(5000)
+    plain = os.path.getsize(write_vtu(tmp_path / "p.vtu", x, data))
+    packed = os.path.getsize(write_vtu(tmp_path / "z.vtu", x, data, compress=True))
+    single = os.path.getsize(write_vtu(tmp_path / "f.vtu", x, data, compress=True, float32=True))
+    assert single < packed < plain
+    pos, back = read_vtu(tmp_path / "f.vtu")
+    assert back["pressure"].dtype == np.float32 and back["id"].dtype == np.int64
+    np.testing.assert_array_equal(back["id"], data["id"])      # integers stay exact
+    np.testing.assert_allclose(back["pressure"], data["pressure"], rtol=2 ** -23)
+    np.testing.assert_allclose(pos[:, :2], x, rtol=2 ** -23)
+
+
+def test_a_damaged_compressed_block_is_named(tmp_path):
+    x, data = _data(100)
+    path = write_vtu(tmp_path / "a.vtu", x, {"pressure": data["pressure"]}, compress=True)
+    text = open(path).read()
+    start = text.index('Name="pressure"')
+    line_start = text.index("\n", start) + 1
+    line_end = text.index("\n", line_start)
+    payload = text[line_start:line_end].strip()
+    broken = payload[:-8] + ("A" * 8 if payload[-8:] != "A" * 8 else "B" * 8)
+    with open(path, "w") as fh:
+        fh.write(text[:line_start] + "  " + broken + text[line_end:])
+    with pytest.raises(ValueError, match="pressure"):
+        read_vtu(path)
+    assert zlib   # the module under test uses zlib, as VTK's vtkZLibDataCompressor does
+
+
+def test_metadata_and_field_data_round_trip(tmp_path):
+    x, data = _data(10)
+    md = {"case": "a--b", "model": "adami", "note": "-->"}
+    path = write_vtu(tmp_path / "m.vtu", x, data, metadata=md, field_data={"TimeValue": 0.25, "wall_force": [1.5, -2]},
+                     compress=True)
+    meta = read_vtu_metadata(path)
+    assert {k: meta[k] for k in md} == md
+    assert meta["TimeValue"] == 0.25 and meta["wall_force"] == [1.5, -2.0]
+    read_vtu(path)      # still a valid VTK XML file (the comment holds no '--')
+    assert read_vtu_metadata(write_vtu(tmp_path / "n.vtu", x, data)) == {}
+
+
+def test_colour_range_is_robust_unless_given():
+    from seawall.plots import colour_range
+
+    values = np.concatenate([np.linspace(0.0, 1000.0, 1000), [1e6, np.nan]])   # one impact outlier
+    lo, hi = colour_range(values)
+    assert lo == pytest.approx(np.percentile(values[:-1], 1)) and hi == pytest.approx(np.percentile(values[:-1], 99))
+    assert hi < 2000.0
+    assert colour_range(values, (-5.0, 5.0)) == (-5.0, 5.0)
+    assert colour_range(np.full(4, 3.0)) == (2.5, 3.5)
+
+
+def test_probe_units_are_per_metre_in_2d():
+    from seawall import probes
+
+    assert probes.probe_unit(probes.WallForce("F", "tank"), 2) == "N/m"
+    assert probes.probe_unit(probes.WallForce("F", "tank"), 3) == "N"
+    assert probes.probe_unit(probes.WallPressure("P", (0, 0)), 2) == "Pa"
+    assert probes.probe_unit(probes.SurgeFront(), 2) == "m"
+
+
+def test_plot_takes_clim_and_puts_the_probe_plot_beside_out(tmp_path, capsys):
+    run = tmp_path / "run"
+    x, data = _data(50)
+    series = PVDSeries(str(run), "fluid")
+    for t in (0.0, 0.1):
+        series.write(t, x, {"pressure": data["pressure"], "mass": np.full(50, 0.1), "density": np.full(50, 1000.0)},
+                     compress=True)
+    wall = PVDSeries(str(run), "wall_tank")
+    wall.write(0.0, x - 1.0, {"id": data["id"]})
+    wall.write(0.1, x + 1.0, {"id": data["id"]})
+    t = np.array([0.0, 0.1])
+    write_probes_csv(str(run / "probes.csv"), t, {"P1": t * 10, "F": t, "front": t + 1})
+    (run / "summary.json").write_text(json.dumps({"case": "c", "boundary": "adami",
+                                                  "probe_units": {"P1": "Pa", "F": "N/m", "front": "m"}}))
+    out = tmp_path / "pics" / "snap.png"
+    assert main(["plot", str(run), "--out", str(out), "--probes", "--clim", "0,500"]) == 0
+    printed = capsys.readouterr().out.split()
+    assert printed == [str(out), str(tmp_path / "pics" / "snap_probes.png")]
+    assert out.exists() and (tmp_path / "pics" / "snap_probes.png").exists() and not (run / "probes.png").exists()
+    with pytest.raises(SystemExit) as stop:
+        main(["plot", str(run), "--clim", "5,1"])
+    assert stop.value.code == 2 and "--clim needs finite LO < HI" in capsys.readouterr().err
