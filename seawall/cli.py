@@ -173,6 +173,21 @@ def build_parser():
     plot.add_argument("--clim", metavar="LO,HI", type=_clim,
                       help="colour range of the field (default: its 1st to 99th percentile over the frame)")
 
+    forces = sub.add_parser("forces", help="the fluid's force on each wall at every output time of a run "
+                            "(from its VTU files) -> forces.csv")
+    forces.add_argument("run_dir")
+    forces.add_argument("--out", help="CSV path (default RUN_DIR/forces.csv)")
+
+    sample = sub.add_parser("sample", help="fluid fields along a line in the stored frames of a run -> CSV")
+    sample.add_argument("run_dir")
+    sample.add_argument("--line", required=True, metavar="x0,y0:x1,y1:n",
+                        help="n points from (x0, y0) to (x1, y1) (x0,y0,z0:x1,y1,z1:n in 3D)")
+    sample.add_argument("--time", type=_time_of_snapshot, action="append",
+                        help="the frame nearest to this time (repeatable; default every frame)")
+    sample.add_argument("--quantities", default="pressure,u,v",
+                        help="comma-separated: pressure (gauge), density, u, v, w, speed (default pressure,u,v)")
+    sample.add_argument("--out", help="CSV path (default RUN_DIR/sample.csv)")
+
     bench = sub.add_parser("bench", help="time a fixed number of steps; print one JSON line")
     bench.add_argument("case")
     bench.add_argument("--boundary", help="wall model; default the case's own")
@@ -544,6 +559,37 @@ def cmd_plot(args):
     return 0
 
 
+def cmd_forces(args):
+    import numpy as np
+
+    from .postprocess import wall_force_series, write_forces_csv
+
+    series = wall_force_series(args.run_dir)
+    out = args.out or os.path.join(args.run_dir, "forces.csv")
+    write_forces_csv(out, series)
+    for name, (t, f) in series.items():
+        if len(t):
+            k = int(np.argmax(np.linalg.norm(f, axis=1)))
+            print(f"wall {name}: {len(t)} frames, largest |F| = {np.linalg.norm(f[k]):.5g} at t = {t[k]:.4g} s "
+                  f"({', '.join(f'{v:.5g}' for v in f[k])})")
+    print(out)
+    return 0
+
+
+def cmd_sample(args):
+    from .postprocess import sample_series, write_sample_csv
+    from .sampling import line_points, parse_line
+
+    start, end, n = parse_line(args.line)
+    points = line_points(start, end, n)
+    quantities = tuple(q.strip() for q in args.quantities.split(",") if q.strip())
+    times, result = sample_series(args.run_dir, points, quantities, times=args.time)
+    out = args.out or os.path.join(args.run_dir, "sample.csv")
+    write_sample_csv(out, times, points, result)
+    print(f"{len(times)} frames x {len(points)} points -> {out}")
+    return 0
+
+
 def cmd_bench(args):
     from .simulation import Simulation  # noqa: F401  (import cost outside the timing)
 
@@ -593,6 +639,7 @@ def main(argv=None):
     args.running = {}   # the simulation of `run`, for the signal handler
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
                 "plot": cmd_plot, "compare": cmd_compare, "new-case": cmd_new_case,
+                "forces": cmd_forces, "sample": cmd_sample,
                 "validate": cmd_validate}
     try:
         if args.command == "run":

@@ -72,6 +72,7 @@ class VTK:
         md = sim.metadata
         return {"seawall_version": __version__, "case": md.get("case"), "boundary": md.get("boundary"),
                 "wall_model": what, "time": sim.time, "step": sim.step, "h": sim.h,
+                "kernel": type(getattr(sim, "kernel", None)).__name__, "dimension": sim.dim,
                 "dx": sim.fluid.spacing, "pressure_convention": PRESSURE_CONVENTION}
 
     def _options(self, sim, extra=None):
