@@ -41,6 +41,9 @@ def setup_differences(saved_metadata, metadata, saved_physics=None, physics=None
                 if old.get(name) != new.get(name):
                     diffs.append(f"parameter {name} = {_show(old.get(name))} in the checkpoint, "
                                  f"{_show(new.get(name))} now")
+        elif key == "case_sha256" and old != new:
+            diffs.append(f"case file changed since the checkpoint (sha256 {str(old)[:12]}... in the checkpoint, "
+                         f"{str(new)[:12]}... now)")
         elif old != new:
             diffs.append(f"{key.replace('_', ' ')} {_show(old)} in the checkpoint, {_show(new)} now")
     if saved_physics is not None and physics is not None:

@@ -120,7 +120,7 @@ def test_restart_refuses_a_changed_case_file(toml_case):
         fh.write("\n# edited\n")
     after = case_by_name(toml_case).build(dx=0.05).metadata
     diffs = setup_differences(before, after)
-    assert len(diffs) == 1 and diffs[0].startswith("case sha256")
+    assert len(diffs) == 1 and diffs[0].startswith("case file changed since the checkpoint")
     assert setup_differences(before, before) == []
 
 
@@ -148,7 +148,7 @@ def test_file_case_runs_restarts_and_writes_walls_every_frame(toml_case, tmp_pat
     with open(toml_case, "a") as fh:
         fh.write("\n# edited\n")
     code, _, err = run_cli(base + ["--t-end", "0.016", "--restart", str(out / "checkpoint.h5")], capsys)
-    assert code == 2 and "case sha256" in err and len(err.strip().splitlines()) == 1
+    assert code == 2 and "case file changed since the checkpoint" in err and len(err.strip().splitlines()) == 1
 
 
 def test_file_case_in_bench_and_compare(py_case, tmp_path, capsys):
