@@ -156,6 +156,8 @@ def _case_from_module(path):
             sim = build(boundary=wall_model, **kwargs)
         except ParameterError as exc:
             raise _fail(path, str(exc)) from None
+        except Exception as exc:   # an error in the user's build(): one line with its place in the file
+            raise _fail(path, f"{type(exc).__name__} in build(){_user_line(exc, path)}: {exc}") from None
         if not isinstance(sim, Runner):
             raise _fail(path, f"build() returned {type(sim).__name__}, not a seawall.Simulation")
         if threads is not None and not pass_threads:

@@ -101,6 +101,8 @@ TOML_HEAD = '[parameters]\ndx = {default = 0.05, unit = "m"}\n[tank]\nlo = [0, 0
             "def build(boundary, H):\n    pass\n", "must declare dx"),
     (".py", "from seawall.cases import Parameter\nPARAMETERS = {'dx': Parameter(0.05, 'dx')}\n"
             "def build(dx, boundary):\n    return 3\n", "returned int, not a seawall.Simulation"),
+    (".py", "from seawall.cases import Parameter\nPARAMETERS = {'dx': Parameter(0.05, 'dx')}\n"
+            "def build(dx, boundary):\n    return undefined_name\n", "NameError in build() (line 4)"),
     (".txt", "", "ends in .py or .toml"),
 ])
 def test_a_malformed_case_file_stops_with_one_line_naming_file_and_problem(tmp_path, capsys, suffix, text, problem):
