@@ -170,3 +170,21 @@ def test_file_case_in_bench_and_compare(py_case, tmp_path, capsys):
     assert rel[fastest] == 1.0
     for b in rel:
         assert rel[b] == pytest.approx(rate[fastest] / rate[b])
+
+
+def test_toml_case_in_3d(tmp_path):
+    path = tmp_path / "box.toml"
+    path.write_text('[parameters]\ndx = {default = 0.05, unit = "m"}\nW = 0.2\n'
+                    '[tank]\nlo = [0, 0, 0]\nhi = [0.6, "W", 0.4]\nopen_top = false\n'
+                    '[[water]]\nlo = [0, 0, 0]\nhi = [0.2, "W", 0.2]\n'
+                    '[[water]]\nlo = [0.4, 0, 0]\nhi = [0.6, "W", 0.1]\npressure = "rest"\n'
+                    '[[probe]]\nkind = "wall_pressure"\nname = "p"\npoint = [0.6, "W / 2", 0.05]\n'
+                    '[[probe]]\nkind = "wall_force"\nname = "F"\naxis = 2\n')
+    case = case_by_name(str(path))
+    assert case.dimension == 3 and case.parameters["W"].default == 0.2
+    sim = case.build(boundary="dbc")
+    assert sim.dim == 3 and sim.fluid.n == 4 * 4 * 4 + 4 * 4 * 2
+    rho = sim.fluid.particles["rho"]
+    x = sim.fluid.particles["x"]
+    assert np.all(rho[x[:, 0] > 0.3] == 1000.0) and np.all(rho[x[:, 0] < 0.3] > 1000.0)   # rest / hydrostatic
+    assert [p.name for p in sim.probes] == ["p", "F"] and sim.probes[1].axis == 2
