@@ -116,15 +116,20 @@ BOUNDARIES = {
     "zeroing": (_dummy("zeroing"), "dummy particles at reference density and pressure (pressure zeroing)"),
     "mirroring": (_dummy("mirroring"), "dummy particles mirroring the fluid particle's pressure (pressure mirroring)"),
     "ghost-mls1": (_ghost(lambda: MLS(1)),
-                   "fixed ghost particles, MLS linear interpolation at mirror points ([Huang2019]); slip=free|noslip"),
+                   "fixed ghost particles, MLS linear interpolation at mirror points ([Huang2019]); "
+                   "slip=free|noslip, reflect"),
     "ghost-mls2": (_ghost(lambda: MLS(2)),
-                   "fixed ghost particles, MLS quadratic interpolation at mirror points ([Huang2019]); slip=free|noslip"),
+                   "fixed ghost particles, MLS quadratic interpolation at mirror points ([Huang2019]); "
+                   "slip=free|noslip, reflect"),
     "ghost-sfdi": (_ghost(_sfdi),
-                   "fixed ghost particles, SFDI interpolation (Ma 2008, [Huang2019]); slip=free|noslip, sfdi_diagonal"),
+                   "fixed ghost particles, SFDI interpolation (Ma 2008, [Huang2019]); "
+                   "slip=free|noslip, reflect, sfdi_diagonal"),
     "ghost-normalized": (_ghost(lambda: Normalised()),
-                         "fixed ghost particles, normalised (Shepard kernel) interpolation ([Huang2019]); slip=free|noslip"),
+                         "fixed ghost particles, normalised (Shepard kernel) interpolation ([Huang2019]); "
+                         "slip=free|noslip, reflect"),
     "ghost-shepard": (_ghost(_shepard),
-                      "fixed ghost particles, improved Shepard interpolation ([Huang2019]); slip, shepard_mu, shepard_lambda"),
+                      "fixed ghost particles, improved Shepard interpolation ([Huang2019]); "
+                      "slip, reflect, shepard_mu, shepard_lambda"),
     "monaghan-kajtar": (_monaghan_kajtar, "repulsive wall particles, Monaghan & Kajtar (2009), one row at dx/beta "
                         "(--set K=... beta=3 alpha_wall=0)"),
     "dbc": (_dynamic(DynamicBoundary),

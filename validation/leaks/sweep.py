@@ -35,6 +35,7 @@ import json
 import math
 import multiprocessing
 import os
+import re
 import sys
 import time
 
@@ -201,7 +202,14 @@ def table(resolution, data):
         esc = ("n/a" if r.get("escaped") is None else
                f"{r['escaped_domain']} / {r['escaped_wall']} / {r['escaped_unstable']}")
         fe = r.get("first_escape")
-        first = ("n/a" if "first_escape" not in r and r.get("escaped") else "-") if not fe else f"{fe['t']:.3f} s, {fe['reason']}, ({fe['x'][0]:.3f}, {fe['x'][1]:.3f}) m"
+        if not fe and r["status"] == "unstable":
+            m = re.search(r"at \[([-0-9.e]+), ([-0-9.e]+)\].*?\(([^;)]*)", r.get("error") or "")
+            if m:
+                fe = {"t": r["t_stop"], "reason": m.group(3).strip(), "x": [float(m.group(1)), float(m.group(2))]}
+        if fe:
+            first = f"{fe['t']:.3f} s, {fe['reason']}, ({fe['x'][0]:.3f}, {fe['x'][1]:.3f}) m"
+        else:
+            first = "n/a" if "first_escape" not in r and r.get("escaped") else "-"
         dist = _num(r.get("min_wall_distance_dx"), ".2f")
         if r.get("t_min_wall_distance") is not None:
             dist += f" ({r['t_min_wall_distance']:.3f})"
