@@ -25,8 +25,8 @@ subset of models replaces only those models' entries) and ``.csv``; the markdown
 table goes into docs/boundaries.md between the markers
 ``<!-- leaks-table:begin -->`` and ``<!-- leaks-table:end -->`` (one table per
 stored resolution), written again from the stored results by ``--report-only``.
-Run directories (probes.csv, summary.json, escaped.csv) go to ``--out``
-(default ``validation/out/leaks``, not kept in git).
+Run directories (probes.csv, summary.json) go to ``--out``
+(default ``validation/leaks/runs``, not kept in git).
 """
 
 import argparse
@@ -250,8 +250,8 @@ def main(argv=None):
     parser.add_argument("--threads", type=int, default=1, help="threads of each run (default 1)")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="case or wall option for every model of this sweep (recorded with the result)")
-    parser.add_argument("--out", default=os.path.join(ROOT, "validation", "out", "leaks"),
-                        help="run directories (default validation/out/leaks)")
+    parser.add_argument("--out", default=os.path.join(HERE, "runs"),
+                        help="run directories (default validation/leaks/runs, not kept in git)")
     parser.add_argument("--report-only", action="store_true", help="rewrite the tables from stored results only")
     args = parser.parse_args(argv)
     if args.report_only:
