@@ -186,7 +186,8 @@ def table(resolution, data):
              f"{data['t_end']:.3f} s, {data.get('threads', 1)} thread(s)). Escaped: removed by the guards of "
              "`seawall.health`, by reason; first escape: time, reason and position; distance: smallest signed "
              "fluid-to-wall distance sampled over the run, in dx (negative: behind the wall surface; the wall "
-             "guard removes at -2.6 dx); reflections: particles sent back by the opt-in `reflect` safeguard; "
+             "guard removes at -2.6 dx); a run stopped by the damage budget of `seawall.health` names the "
+             "particle that stopped it under first escape (it is not counted among the escaped); reflections: particles sent back by the opt-in `reflect` safeguard; "
              "wall time: time stepping only (shared machine, indicative).", "",
              "| model | options | completed | escaped: domain / wall / unstable | first escape | "
              "min wall distance [dx] (at t [s]) | reflections | wall time [s] |",
@@ -203,14 +204,15 @@ def table(resolution, data):
                f"{r['escaped_domain']} / {r['escaped_wall']} / {r['escaped_unstable']}")
         fe = r.get("first_escape")
         if not fe and r["status"] == "unstable":
-            m = re.search(r"at \[([-0-9.e]+), ([-0-9.e]+)\].*?\(([^;)]*)", r.get("error") or "")
+            m = re.search(r"at \[([-0-9.ena]+), ([-0-9.ena]+)\].*?\(([^;)]*)", r.get("error") or "")
             if m:
                 fe = {"t": r["t_stop"], "reason": m.group(3).strip(), "x": [float(m.group(1)), float(m.group(2))]}
         if fe:
             first = f"{fe['t']:.3f} s, {fe['reason']}, ({fe['x'][0]:.3f}, {fe['x'][1]:.3f}) m"
         else:
             first = "n/a" if "first_escape" not in r and r.get("escaped") else "-"
-        dist = _num(r.get("min_wall_distance_dx"), ".2f")
+        d = r.get("min_wall_distance_dx")
+        dist = _num(d, ".1e" if d is not None and abs(d) < 0.005 else ".2f")
         if r.get("t_min_wall_distance") is not None:
             dist += f" ({r['t_min_wall_distance']:.3f})"
         opts = ", ".join(f"{k}={v}" for k, v in sorted((r.get("params") or {}).items())) or "defaults"
@@ -254,6 +256,7 @@ def main(argv=None):
                         help="run directories (default validation/leaks/runs, not kept in git)")
     parser.add_argument("--report-only", action="store_true", help="rewrite the tables from stored results only")
     args = parser.parse_args(argv)
+    sys.path.insert(0, ROOT)
     if args.report_only:
         write_doc()
         return 0
