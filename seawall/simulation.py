@@ -448,6 +448,10 @@ class Simulation(Runner):
         self.integrator.step(self, dt)
 
     def _after_step(self, dt):
+        for wall in self.walls:
+            model = getattr(wall, "model", None)
+            if model is not None:
+                model.after_step(wall, self.fluid, self)
         for coupling in self.couplings:
             coupling.after_step(self, dt)
 

@@ -169,6 +169,10 @@ class WallModel:
     def interact(self, fluid, wall, ctx, dv, drho):
         raise NotImplementedError
 
+    def after_step(self, wall, fluid, sim):
+        """Called after every time step with the step's final fluid state, before the removal
+        guards (``seawall.health``); most models do nothing here."""
+
     def describe(self):
         """One line for summaries."""
         return self.name

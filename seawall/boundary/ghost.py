@@ -194,6 +194,70 @@ def ghost_forces(fluid, wall, cells, prm, terms, rates):
         drho[i] += dr
 
 
+@njit(cache=True, parallel=True)
+def reflect_crossed(xf, vf, xw, nw, sw, vw, start, order, reach, lo, inv_cell, ncell, radius2, hit):
+    """Return the fluid particles that crossed the wall surface to the fluid side (opt-in safeguard).
+
+    For each fluid particle the nearest wall particle b within the radius gives
+    the surface point s_b and normal n_b (as :func:`seawall.diagnostics.signed_wall_distance`);
+    with d = (x - s_b) . n_b < 0 the particle is reflected specularly across the
+    surface, x <- x - 2 d n_b, and an inward normal velocity relative to the
+    wall, u_n = (v - v_b) . n_b < 0, is reversed, v <- v - 2 u_n n_b (an
+    elastic bounce: position and kinetic energy relative to the wall kept).
+    ``hit[i]`` is set to 1 for a reflected particle.
+    """
+    dim = xf.shape[1]
+    for i in prange(xf.shape[0]):
+        hit[i] = 0
+        p0 = xf[i, 0]
+        p1 = xf[i, 1]
+        p2 = xf[i, 2] if dim == 3 else 0.0
+        c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+        c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+        c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+        if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
+            continue
+        best = radius2
+        b_best = -1
+        zr = 2 if dim == 3 else 0
+        for oz in range(-zr, zr + 1):
+            cz = c2 + oz
+            if cz < 0 or cz >= ncell[2]:
+                continue
+            for oy in range(-2, 3):
+                cy = c1 + oy
+                if cy < 0 or cy >= ncell[1]:
+                    continue
+                for ox in range(-2, 3):
+                    cx = c0 + ox
+                    if cx < 0 or cx >= ncell[0]:
+                        continue
+                    cell = cx + ncell[0] * (cy + ncell[1] * cz)
+                    for kk in range(start[cell], start[cell + 1]):
+                        b = order[kk]
+                        r2 = 0.0
+                        for k in range(dim):
+                            d = xf[i, k] - xw[b, k]
+                            r2 += d * d
+                        if r2 < best:
+                            best = r2
+                            b_best = b
+        if b_best < 0:
+            continue
+        s = 0.0
+        un = 0.0
+        for k in range(dim):
+            s += (xf[i, k] - sw[b_best, k]) * nw[b_best, k]
+            un += (vf[i, k] - vw[b_best, k]) * nw[b_best, k]
+        if s >= 0.0:
+            continue
+        hit[i] = 1
+        for k in range(dim):
+            xf[i, k] -= 2.0 * s * nw[b_best, k]
+            if un < 0.0:
+                vf[i, k] -= 2.0 * un * nw[b_best, k]
+
+
 def mirror_points(surface_points, positions):
     """Mirror (interpolation) points 2 s - x of wall particles ([Huang2019] sec. 2.2, Fig. 1)."""
     return 2.0 * np.asarray(surface_points, dtype=np.float64) - np.asarray(positions, dtype=np.float64)
@@ -270,7 +334,7 @@ class GhostParticles(WallModel):
     #: the ghosts' hydrodynamic masses count in a summation-density fluid
     joins_summation_density = True
 
-    def __init__(self, interpolation="shepard", *, slip="free"):
+    def __init__(self, interpolation="shepard", *, slip="free", reflect=False):
         if isinstance(interpolation, str):
             try:
                 interpolation = INTERPOLATIONS[interpolation]()
@@ -283,6 +347,9 @@ class GhostParticles(WallModel):
             raise ParameterError(f"slip must be one of {', '.join(SLIP_MODES)}; got {slip!r}")
         self.interpolation = interpolation
         self.slip = slip
+        self.reflect = bool(reflect)
+        #: fluid particles reflected by the ``reflect`` safeguard so far (not part of the state)
+        self.reflections = 0
         self.name = f"ghost-{interpolation.name}" + ("" if slip == "free" else "-noslip")
         self._buf = None
 
@@ -321,6 +388,20 @@ class GhostParticles(WallModel):
         ghost_forces(fluid_view(fluid.particles), wall_view(wall.particles, v="v_ghost"),
                      cell_view(ctx.grid, wall.cells), ctx.physics, self.cross_terms(ctx.physics),
                      rates_bundle(fluid, ctx, dv, drho))
+
+    def after_step(self, wall, fluid, sim):
+        """With ``reflect``: send fluid particles that ended the step behind the wall surface back
+        across it (:func:`reflect_crossed`)."""
+        if not self.reflect or fluid.particles.n == 0:
+            return
+        fp = fluid.particles
+        pa = wall.particles
+        g = sim.grid
+        hit = np.zeros(fp.n, dtype=np.uint8)
+        reflect_crossed(fp["x"], fp["v"], pa["x"], pa["normal"], pa["surface"], pa["v"], wall.cells.start,
+                        wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell,
+                        sim.physics.support2, hit)
+        self.reflections += int(hit.sum())
 
     def describe(self):
         return self.name

@@ -29,10 +29,11 @@ def _ghost(make):
 
     The factory takes ``slip`` and the keywords of ``make``.
     """
-    def factory(*, slip="free", **options):
-        return GhostParticles(make(**options), slip=str(slip))
+    def factory(*, slip="free", reflect=False, **options):
+        return GhostParticles(make(**options), slip=str(slip), reflect=_flag(reflect))
     factory.__signature__ = inspect.Signature(
-        [inspect.Parameter("slip", inspect.Parameter.KEYWORD_ONLY, default="free")]
+        [inspect.Parameter("slip", inspect.Parameter.KEYWORD_ONLY, default="free"),
+         inspect.Parameter("reflect", inspect.Parameter.KEYWORD_ONLY, default=False)]
         + [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in inspect.signature(make).parameters.values()])
     return factory
 
@@ -61,10 +62,10 @@ def _liu2015(default_slip="free"):
     return factory
 
 
-def _liu2012(*, beta=2.0):
+def _liu2012(*, beta=2.0, c=None):
     from .liu2012 import Liu2012Force
 
-    return Liu2012Force(beta=_number("beta", beta))
+    return Liu2012Force(beta=_number("beta", beta), c=None if c is None else _number("c", c))
 
 
 def _number(name, value):
@@ -115,15 +116,20 @@ BOUNDARIES = {
     "zeroing": (_dummy("zeroing"), "dummy particles at reference density and pressure (pressure zeroing)"),
     "mirroring": (_dummy("mirroring"), "dummy particles mirroring the fluid particle's pressure (pressure mirroring)"),
     "ghost-mls1": (_ghost(lambda: MLS(1)),
-                   "fixed ghost particles, MLS linear interpolation at mirror points ([Huang2019]); slip=free|noslip"),
+                   "fixed ghost particles, MLS linear interpolation at mirror points ([Huang2019]); "
+                   "slip=free|noslip, reflect"),
     "ghost-mls2": (_ghost(lambda: MLS(2)),
-                   "fixed ghost particles, MLS quadratic interpolation at mirror points ([Huang2019]); slip=free|noslip"),
+                   "fixed ghost particles, MLS quadratic interpolation at mirror points ([Huang2019]); "
+                   "slip=free|noslip, reflect"),
     "ghost-sfdi": (_ghost(_sfdi),
-                   "fixed ghost particles, SFDI interpolation (Ma 2008, [Huang2019]); slip=free|noslip, sfdi_diagonal"),
+                   "fixed ghost particles, SFDI interpolation (Ma 2008, [Huang2019]); "
+                   "slip=free|noslip, reflect, sfdi_diagonal"),
     "ghost-normalized": (_ghost(lambda: Normalised()),
-                         "fixed ghost particles, normalised (Shepard kernel) interpolation ([Huang2019]); slip=free|noslip"),
+                         "fixed ghost particles, normalised (Shepard kernel) interpolation ([Huang2019]); "
+                         "slip=free|noslip, reflect"),
     "ghost-shepard": (_ghost(_shepard),
-                      "fixed ghost particles, improved Shepard interpolation ([Huang2019]); slip, shepard_mu, shepard_lambda"),
+                      "fixed ghost particles, improved Shepard interpolation ([Huang2019]); "
+                      "slip, reflect, shepard_mu, shepard_lambda"),
     "monaghan-kajtar": (_monaghan_kajtar, "repulsive wall particles, Monaghan & Kajtar (2009), one row at dx/beta "
                         "(--set K=... beta=3 alpha_wall=0)"),
     "dbc": (_dynamic(DynamicBoundary),
@@ -134,7 +140,8 @@ BOUNDARIES = {
     "liu2015": (_liu2015(), "dummy particles of Liu et al. (2015, [Liu2015]): normal-only repulsive pressure term, "
                 "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off)"),
     "liu2015-noslip": (_liu2015("noslip"), "Liu et al. (2015) dummy particles with no slip (eq. 28-29)"),
-    "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2)"),
+    "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2 c=<force speed, "
+                "default c0>)"),
 }
 
 
