@@ -16,7 +16,8 @@ from . import boundary, shapes  # noqa: E402
 from .boundary import DummyParticles, WallSystem
 from .eos import Linear, Tait
 from .errors import InstabilityError, ParameterError, SeawallError
-from .fluid import ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi
+from .fluid import (ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi,
+                    ParticleShifting, TransportVelocity)
 from .integrators import LeapFrog, Symplectic
 from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC4
 from . import coupling, probes, output
@@ -29,6 +30,7 @@ __version__ = "0.1.0"
 __all__ = [
     "FluidSystem", "WallSystem", "Simulation", "RunResult", "DummyParticles",
     "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
+    "ParticleShifting", "TransportVelocity",
     "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
     "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output", "coupling",
     "OpenBoundary", "InFlow", "OutFlow", "Lastiwka", "cases",

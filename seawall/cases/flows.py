@@ -128,6 +128,7 @@ PLATE_FLOW_PARAMETERS = {
 
 POISEUILLE = Case(
     name="poiseuille",
+    free_surface=False,
     default_boundary="adami-noslip",
     description="start-up Poiseuille flow between plates 1 mm apart, periodic in x, body force "
                 "(Morris et al. 1997); no-slip walls, adami-noslip by default",
@@ -137,6 +138,7 @@ POISEUILLE = Case(
 
 COUETTE = Case(
     name="couette",
+    free_surface=False,
     default_boundary="adami-noslip",
     description="start-up Couette flow between plates 1 mm apart, upper plate moving, periodic in x "
                 "(Morris et al. 1997); no-slip walls, adami-noslip by default",
@@ -185,6 +187,7 @@ class MaxSpeed(probes.Probe):
 
 TAYLOR_GREEN = Case(
     name="taylor-green",
+    free_surface=False,
     description="2D Taylor-Green vortex, periodic unit square, Re = 100, fluid only (no walls)",
     builder=build_taylor_green,
     parameters={"n": Parameter(50, "particles per side of the unit square", int),

@@ -131,6 +131,7 @@ def centrelines(sim, s, s_horizontal=None):
 
 CAVITY = Case(
     name="cavity",
+    free_surface=False,
     default_boundary="adami-noslip",
     description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 ([Liu2015] sec. 4.2; --set reynolds=100/1000 for "
                 "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default",
