@@ -282,7 +282,7 @@ class Simulation(Runner):
                              g.period, prm, False, ctx.rates.dv, ctx.rates.drho)
 
     def _apply_shifting(self, dt):
-        """After a step: x_i += delta r_i ([Sun2017] eq. 19 / [Lind2012] eq. 26) from the last evaluation's
+        """After a step: x_i += delta r_i ([Sun2017] / [Lind2012]) from the last evaluation's
         grad C and lambda, with the free-surface correction."""
         fp = self.fluid.particles
         shifting = self.fluid.shifting

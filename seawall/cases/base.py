@@ -150,6 +150,13 @@ def _case_regularisation(case, sim, given):
             raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
         return None
     opts = {**case.regularisation, **given}
+    fluid = sim.fluid
+    if not opts:    # what the builder gave the fluid
+        tv = fluid.transport_velocity
+        return {"shifting": fluid.shifting.kind if fluid.shifting is not None else "none",
+                "transport_velocity": tv is not None,
+                "tvf_background": (tv.background_factor if tv.background_pressure is None else None) if tv else None,
+                "tvf_free_surface": tv.free_surface if tv else None}
     shifting = str(opts.get("shifting", "none")).strip().lower()
     if shifting not in SHIFTING_KINDS:
         raise ParameterError(f"shifting must be one of {', '.join(SHIFTING_KINDS)}; got {opts['shifting']!r}")

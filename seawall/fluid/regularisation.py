@@ -9,24 +9,27 @@ regularisation", has the formulas, the derivations and the choices):
   C_i = sum_j V_j W_ij, with the free-surface correction (only the tangential
   part of the shift acts at and near a free surface):
 
-  - ``"sun2017"``: delta r_i = -CFL Ma (2h)^2 grad C_i ([Sun2017] eq. 19), with
+  - ``"sun2017"``: delta r_i = -CFL Ma (2h)^2 grad C_i ([Sun2017]), with
     CFL = c0 dt / h of the step and Ma = max_i |v_i| / c0, so
     delta r_i = -4 h U dt grad C_i;
-  - ``"lind2012"``: delta r_i = -D grad C_i, D = 0.5 h^2 ([Lind2012] eq. 26-27);
+  - ``"lind2012"``: delta r_i = -D grad C_i, D = 0.5 h^2 ([Lind2012]);
 
   both with grad C_i = sum_j V_j (1 + R (W_ij / W(dx))^n) grad_i W_ij,
-  R = 0.2, n = 4 ([Lind2012] eq. 29; [Sun2017] eq. 20).
+  R = 0.2, n = 4 ([Lind2012]; [Sun2017]).
 * :class:`TransportVelocity` -- the transport-velocity formulation of
   [Adami2013]: the particles move with v~ = v + dt/2 a_b,
-  a_b,i = -(p_b / m_i) sum_j (V_i^2 + V_j^2) grad_i W_ij ([Adami2013] eq. 13-14),
+  a_b,i = -(p_b / m_i) sum_j (V_i^2 + V_j^2) grad_i W_ij ([Adami2013]),
   and the momentum equation gains the divergence of A = rho v (x) (v~ - v)
-  ([Adami2013] eq. 8, 14).
+  ([Adami2013]).
+
+The source papers are not among the project's documents; the formulas are
+their published forms, cited without equation numbers (docs/formulas.md).
 
 Free surface: lambda_i, the smallest eigenvalue of
 B_i = sum_j V_j (x_j - x_i) (x) grad_i W_ij (about the identity in the bulk,
-[Marrone2010] sec. 2), marks the particles at or near a free surface
+[Marrone2010]), marks the particles at or near a free surface
 (lambda_i < ``lambda_surface``); there the shift (or a_b) keeps only its part
-orthogonal to n_i = -grad C_i / |grad C_i| ([Sun2017] eq. 21; [Lind2012] sec. 3.3).
+orthogonal to n_i = -grad C_i / |grad C_i| ([Sun2017]; [Lind2012]).
 
 Walls: every wall model whose ``fluid_terms`` contain ``"shifting"``
 (``"transport_velocity"``) adds its particles, with the volumes m_b / rho0,
@@ -52,19 +55,19 @@ class ParticleShifting:
     Parameters
     ----------
     kind : {"sun2017", "lind2012"}
-        ``"sun2017"``: delta r = -CFL Ma (2h)^2 grad C ([Sun2017] eq. 19);
-        ``"lind2012"``: delta r = -D grad C, D = ``coefficient`` h^2 ([Lind2012] eq. 26-27).
+        ``"sun2017"``: delta r = -CFL Ma (2h)^2 grad C ([Sun2017]);
+        ``"lind2012"``: delta r = -D grad C, D = ``coefficient`` h^2 ([Lind2012]).
     coefficient : float, optional
         Lind's D / h^2 (default 0.5, [Lind2012]); Sun's factor in front of CFL Ma h^2
-        (default 4, the (2h)^2 of [Sun2017] eq. 19).
+        (default 4, the (2h)^2 of [Sun2017]).
     R, n : float
-        The anti-clumping term (1 + R (W / W(dx))^n) of grad C ([Lind2012] eq. 29), 0.2 and 4.
+        The anti-clumping term (1 + R (W / W(dx))^n) of grad C ([Lind2012]), 0.2 and 4.
     free_surface : bool
         Apply the free-surface correction (default True): particles with
         lambda < ``lambda_surface`` shift only tangentially.
     lambda_surface : float
         Threshold on lambda (default 0.75, the upper bound of the free-surface
-        region of [Marrone2010]; [Sun2017] sec. 3.2).
+        region of [Marrone2010]; [Sun2017]).
     """
 
     def __init__(self, kind="sun2017", *, coefficient=None, R=0.2, n=4.0, free_surface=True,
@@ -93,10 +96,10 @@ class TransportVelocity:
     Parameters
     ----------
     background_pressure : float
-        p_b [Pa] of the advection velocity ([Adami2013] eq. 13); give it, or
+        p_b [Pa] of the advection velocity ([Adami2013]); give it, or
         ``background_factor``.
     background_factor : float
-        p_b = factor * rho0 c0^2 (default 1: [Adami2013] sec. 3 takes p_b = p0 = rho0 c0^2 / gamma with gamma = 1
+        p_b = factor * rho0 c0^2 (default 1: [Adami2013] takes p_b = p0 = rho0 c0^2 / gamma with gamma = 1
         for the linear EOS).
     free_surface : bool
         Free-surface correction (default False): at and near a free surface
@@ -161,9 +164,9 @@ def concentration_sums(layout, x, vol, xb, volb, start_b, order_b, lo, inv_cell,
                        R, nexp, inv_w_dx, grad_c, bmat, bg):
     """Sums over the particles b (the fluid itself when ``same``, else a wall) for every fluid particle i:
 
-    * grad_c[i] += sum_b V_b (1 + R (W_ib / W(dx))^n) grad_i W_ib   ([Lind2012] eq. 29; [Sun2017] eq. 20)
-    * bmat[i]   += sum_b V_b (x_b - x_i) (x) grad_i W_ib, as (xx, xy, xz, yy, yz, zz)  ([Marrone2010] eq. 2)
-    * bg[i]     += sum_b (V_i^2 + V_b^2) grad_i W_ib                 ([Adami2013] eq. 13)
+    * grad_c[i] += sum_b V_b (1 + R (W_ib / W(dx))^n) grad_i W_ib   ([Lind2012]; [Sun2017])
+    * bmat[i]   += sum_b V_b (x_b - x_i) (x) grad_i W_ib, as (xx, xy, xz, yy, yz, zz)  ([Marrone2010])
+    * bg[i]     += sum_b (V_i^2 + V_b^2) grad_i W_ib                 ([Adami2013])
 
     With ``same`` the arrays are overwritten (the fluid pass comes first).
     """
@@ -262,7 +265,7 @@ def smallest_eigenvalue(dim, b00, b01, b02, b11, b12, b22):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def surface_lambda(bmat, dim, lam):
-    """lambda_i, the smallest eigenvalue of B_i ([Marrone2010] sec. 2), for every particle."""
+    """lambda_i, the smallest eigenvalue of B_i ([Marrone2010]), for every particle."""
     for i in prange(bmat.shape[0]):
         lam[i] = smallest_eigenvalue(dim, bmat[i, 0], bmat[i, 1], bmat[i, 2], bmat[i, 3], bmat[i, 4], bmat[i, 5])
 
@@ -270,7 +273,7 @@ def surface_lambda(bmat, dim, lam):
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def corrected_vectors(vec, grad_c, lam, scale, lambda_surface, surface, out):
     """out_i = scale * vec_i, with its component along n_i = -grad C_i / |grad C_i| removed where
-    ``surface`` and lambda_i < ``lambda_surface`` ([Sun2017] eq. 21; [Lind2012] sec. 3.3)."""
+    ``surface`` and lambda_i < ``lambda_surface`` ([Sun2017]; [Lind2012])."""
     dim = vec.shape[1]
     for i in prange(vec.shape[0]):
         a0 = scale * vec[i, 0]
@@ -299,7 +302,7 @@ def transport_stress(layout, x, v, rho, vol, m, dvt, xb, vb, rhob, volb, dvtb, s
     when ``same``, else a wall whose transport correction dvtb is zero):
 
     * dv_i   += (1/m_i) sum_b (V_i^2 + V_b^2) 1/2 (A_i + A_b) . grad_i W_ib,
-      A = rho v (x) (v~ - v), (A . grad W)_a = rho v_a (v~ - v) . grad W      ([Adami2013] eq. 8, 14)
+      A = rho v (x) (v~ - v), (A . grad W)_a = rho v_a (v~ - v) . grad W      ([Adami2013])
     * drho_i += (v~_i - v_i) . sum_b V_b (rho_b - rho_i) grad_i W_ib  (fluid pairs only): the density
       followed along v~ instead of v (docs/formulas.md).
     """
