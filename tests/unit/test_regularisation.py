@@ -159,3 +159,27 @@ def test_case_options_and_refusals():
     assert sim.fluid.transport_velocity is not None
     with pytest.raises(ParameterError, match="^shifting must be one of"):
         FluidSystem(shapes.rectangle((0.0, 0.0), (0.2, 0.2), DX), eos=Linear(c0=10.0), shifting="sideways")
+
+
+def test_restart_with_shifting_and_transport_velocity_continues_bit_for_bit(tmp_path):
+    def make():
+        return build("taylor-green", n=16, threads=1, shifting="sun2017", transport_velocity="true")
+
+    path = str(tmp_path / "checkpoint.h5")
+    reference = make()
+    reference.add(every=0.005)
+    reference.run(0.01, progress=False)
+    reference.save_checkpoint(path)
+    reference.run(0.02, progress=False)
+    second = make()
+    second.add(every=0.005)
+    second.restart(path)
+    assert 0.01 <= second.time < 0.02
+    second.run(0.02, progress=False)
+    assert second.step == reference.step
+    for name in ("x", "v", "rho", "id"):
+        assert np.array_equal(second.fluid.particles[name], reference.fluid.particles[name]), name
+    # a checkpoint of another scheme is refused
+    other = build("taylor-green", n=16, threads=1, shifting="lind2012", transport_velocity="true")
+    with pytest.raises(ParameterError, match="shifting"):
+        other.restart(path)
