@@ -64,4 +64,4 @@ def run(ctx):
 
 
 ENTRY = Entry(name="taylor-green", title="Taylor-Green vortex 2D, fluid only: kinetic-energy decay", run=run,
-              expected_s=150, quick_s=5, order=60, description=" ".join(__doc__.split("\n\n")[1].split()))
+              expected_s=300, quick_s=5, order=60, description=" ".join(__doc__.split("\n\n")[1].split()))
