@@ -73,7 +73,8 @@ def run_cavity(ctx, reynolds, t_end, c0=None, n=50, **scheme):
 
 
 _SETUP = ("Case ``cavity`` (L = 1 mm, lid U = 1 mm/s, nu = U L / Re; [Liu2015] sec. 4.2 runs Re = 1), no-slip dummy "
-          "walls (``adami-noslip``), dx = L/50, h = 1.2 dx, ")
+          "walls (``adami-noslip``), dx = L/50, h = 1.2 dx, the case's default scheme (no particle shifting, "
+          "no transport velocity: shifting measured at Re = 100 is in docs/validation-notes.md), ")
 _QUANTITY = ("Quantity: u/U on the vertical and v/U on the horizontal centreline at the reference points; the largest "
              "deviation. Tolerance (fixed before the run): 5 % of U.")
 
