@@ -18,7 +18,8 @@ from .boundary import (DummyParticles, DynamicBoundary, GhostParticles, Improved
                        WallSystem)
 from .eos import Linear, Tait
 from .errors import InstabilityError, ParameterError, SeawallError
-from .fluid import ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi
+from .fluid import (ArtificialViscosity, DeltaSPH, FluidSystem, LaminarViscosity, MolteniColagrossi,
+                    ParticleShifting, TransportVelocity)
 from .integrators import LeapFrog, Symplectic
 from .kernels import CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC4
 from . import coupling, probes, output
@@ -37,6 +38,7 @@ __all__ = [
     "WallPressure", "Pressure", "PressureSensor", "WallForce", "SurgeFront", "KineticEnergy", "TotalMass",
     "VTK", "Checkpoint",
     "Tait", "Linear", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH",
+    "ParticleShifting", "TransportVelocity",
     "Symplectic", "LeapFrog", "CubicSpline", "QuinticSpline", "WendlandC2", "WendlandC4", "Gaussian",
     "ParameterError", "InstabilityError", "SeawallError", "shapes", "boundary", "probes", "output", "coupling",
     "OpenBoundary", "InFlow", "OutFlow", "Lastiwka", "cases",

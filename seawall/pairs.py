@@ -26,8 +26,16 @@ ARTIFICIAL_VISCOSITY = "artificial_viscosity"
 LAMINAR_VISCOSITY = "laminar_viscosity"
 DENSITY_DIFFUSION = "density_diffusion"
 XSPH = "xsph"
-#: every fluid pair term, in the order the fluid loop applies them
-FLUID_TERMS = (CONTINUITY, PRESSURE, TENSILE, ARTIFICIAL_VISCOSITY, LAMINAR_VISCOSITY, DENSITY_DIFFUSION, XSPH)
+#: the wall's particles count in the concentration gradient and the free-surface matrix of particle
+#: shifting (seawall.fluid.regularisation; volumes m_b / rho0)
+SHIFTING = "shifting"
+#: the wall's particles count in the background-pressure sum and the extra stress of the transport
+#: velocity ([Adami2013]; seawall.fluid.regularisation)
+TRANSPORT_VELOCITY = "transport_velocity"
+#: every fluid pair term, in the order the fluid loop applies them (the last two: the regularisation
+#: passes after the fluid loop and the walls' terms)
+FLUID_TERMS = (CONTINUITY, PRESSURE, TENSILE, ARTIFICIAL_VISCOSITY, LAMINAR_VISCOSITY, DENSITY_DIFFUSION, XSPH,
+               SHIFTING, TRANSPORT_VELOCITY)
 
 
 # ---------------------------------------------------------------- kernel helpers

@@ -62,6 +62,10 @@ class ParticleArrays:
     def names(self):
         return list(self._arrays)
 
+    def remove(self, name):
+        """Drop the array ``name`` (if present)."""
+        self._arrays.pop(name, None)
+
     def items(self):
         return self._arrays.items()
 

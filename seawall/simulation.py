@@ -21,6 +21,8 @@ from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reaso
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
+from .fluid.regularisation import (concentration_sums, corrected_vectors, max_speed, surface_lambda,
+                                   transport_stress)
 from .fluid.system import FluidSystem
 from .health import (DAMAGE, KEEP, UNSTABLE, WALL, _DENSITY, classify_particles, derive_hull, parse_guard_settings,
                      parse_hull, reason_name, wall_depth_codes, walls_top)
@@ -159,6 +161,7 @@ class Simulation(Runner):
             if self.physics.lagged_gradient:
                 fp["grad_rho_next"] = np.zeros((n, self.dim))
         self._empty_grad = np.zeros((0, self.dim))
+        self._allocate_regularisation()
         for wall in self.walls:
             cells = self.grid.build(wall.x)
             wall.particles.permute(cells.order)  # walls sorted once for locality
@@ -177,6 +180,123 @@ class Simulation(Runner):
         self.escaped_mass = 0.0
         for coupling in self.couplings:
             coupling.prepare(self)
+
+    # ------------------------------------------------------------------ regularisation
+    def _allocate_regularisation(self):
+        """Arrays of particle shifting / the transport velocity (seawall.fluid.regularisation)."""
+        fluid = self.fluid
+        self._regularise = fluid.shifting is not None or fluid.transport_velocity is not None
+        #: the time step being taken (the transport velocity's dt / 2 a_b needs it); 0 before the first step
+        self._dt_now = 0.0
+        if not self._regularise:
+            return
+        fp = fluid.particles
+        n = fp.n
+        for name, shape in (("grad_c", (n, self.dim)), ("bmat", (n, 6)), ("lambda", (n,))):
+            fp[name] = np.zeros(shape)
+        if fluid.transport_velocity is not None:
+            fp["bg"] = np.zeros((n, self.dim))
+            fp["dv_transport"] = np.zeros((n, self.dim))
+            self.background_pressure = fluid.transport_velocity.pressure(fluid.rho0, fluid.eos.c0)
+        else:
+            self._bg_scratch = np.zeros((n, self.dim))
+        self._shift = np.zeros((n, self.dim))
+        w_dx = self.physics.sigma * kernel_shape(self.kernel.kind, fluid.spacing / self.h)
+        self._inv_w_dx = 1.0 / w_dx if w_dx > 0 else 0.0
+
+    def set_regularisation(self, *, shifting="keep", transport_velocity="keep"):
+        """Set the fluid's particle shifting and / or transport velocity (as FluidSystem takes them) on a
+        built simulation, before it first runs."""
+        from .fluid.regularisation import as_shifting, as_transport_velocity
+
+        if self._rates_ready:
+            raise ParameterError("shifting and transport_velocity must be set before the simulation first runs")
+        if shifting != "keep":
+            self.fluid.shifting = as_shifting(shifting)
+        if transport_velocity != "keep":
+            self.fluid.transport_velocity = as_transport_velocity(transport_velocity)
+        for name in ("grad_c", "bmat", "lambda", "bg", "dv_transport"):
+            self.fluid.particles.remove(name)
+        self._allocate_regularisation()
+        return self
+
+    def _wall_volumes(self, wall):
+        """V_b = m_b / rho0 of a wall's particles (the lattice volume for layered walls)."""
+        vol = getattr(wall, "_regularisation_volume", None)
+        if vol is None or vol.shape[0] != wall.n:
+            vol = np.ascontiguousarray(wall.particles["m"] / self.physics.rho0)
+            wall._regularisation_volume = vol
+        return vol
+
+    def _regularisation_walls(self, term):
+        return [w for w in self.walls if term in w.model.fluid_terms and "m" in w.particles]
+
+    def _regularisation_sums(self):
+        """grad C, B and the background-pressure sum over the fluid and the walls declaring the terms."""
+        fp = self.fluid.particles
+        g = self.grid
+        prm = self.physics
+        cells = self.fluid_cells
+        shifting = self.fluid.shifting
+        R = shifting.R if shifting is not None else 0.2
+        nexp = shifting.n if shifting is not None else 4.0
+        bg = fp["bg"] if "bg" in fp else self._scratch_vectors("_bg_scratch")
+        vol = fp["volume"]
+        concentration_sums(g.layout, fp["x"], vol, fp["x"], vol, cells.start, cells.order, g.lo, g.inv_cell,
+                           g.ncell, g.period, prm, True, R, nexp, self._inv_w_dx, fp["grad_c"], fp["bmat"], bg)
+        term = "shifting" if shifting is not None else "transport_velocity"
+        for wall in self._regularisation_walls(term):
+            concentration_sums(g.layout, fp["x"], vol, wall.x, self._wall_volumes(wall), wall.cells.start,
+                               wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, False, R, nexp,
+                               self._inv_w_dx, fp["grad_c"], fp["bmat"], bg)
+        surface_lambda(fp["bmat"], self.dim, fp["lambda"])
+
+    def _scratch_vectors(self, name):
+        arr = getattr(self, name, None)
+        n = self.fluid.particles.n
+        if arr is None or arr.shape[0] != n:
+            arr = np.zeros((n, self.dim))
+            setattr(self, name, arr)
+        return arr
+
+    def _transport_velocity(self, ctx):
+        """[Adami2013]: v~ - v = dt/2 a_b into the drift correction, then the extra stress and density terms."""
+        fp = self.fluid.particles
+        tv = self.fluid.transport_velocity
+        g = self.grid
+        prm = self.physics
+        cells = self.fluid_cells
+        dvt = fp["dv_transport"]
+        a_b = fp["bg"] / fp["m"][:, None]
+        corrected_vectors(a_b, fp["grad_c"], fp["lambda"], -0.5 * self._dt_now * self.background_pressure,
+                          tv.lambda_surface, tv.free_surface, dvt)
+        ctx.rates.xsph[:] += dvt
+        transport_stress(g.layout, fp["x"], fp["v"], fp["rho"], fp["volume"], fp["m"], dvt, fp["x"], fp["v"],
+                         fp["rho"], fp["volume"], dvt, cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
+                         prm, True, ctx.rates.dv, ctx.rates.drho)
+        for wall in self._regularisation_walls("transport_velocity"):
+            vol = self._wall_volumes(wall)
+            zero = np.zeros((wall.n, self.dim))     # a wall moves with its own velocity: v~ - v = 0, A_b = 0
+            transport_stress(g.layout, fp["x"], fp["v"], fp["rho"], fp["volume"], fp["m"], dvt, wall.x, zero,
+                             vol, vol, zero, wall.cells.start, wall.cells.order, g.lo, g.inv_cell, g.ncell,
+                             g.period, prm, False, ctx.rates.dv, ctx.rates.drho)
+
+    def _apply_shifting(self, dt):
+        """After a step: x_i += delta r_i ([Sun2017] / [Lind2012]) from the last evaluation's
+        grad C and lambda, with the free-surface correction."""
+        fp = self.fluid.particles
+        shifting = self.fluid.shifting
+        if fp.n == 0:
+            return
+        if shifting.kind == "sun2017":
+            # CFL Ma (2h)^2 with CFL = c0 dt / h and Ma = U / c0: coefficient * h * U * dt, U = max |v|
+            scale = -shifting.coefficient * self.h * max_speed(fp["v"]) * dt
+        else:
+            scale = -shifting.coefficient * self.h * self.h
+        shift = self._scratch_vectors("_shift")
+        corrected_vectors(fp["grad_c"], fp["grad_c"], fp["lambda"], scale, shifting.lambda_surface,
+                          shifting.free_surface, shift)
+        fp["x"] += shift
 
     def couple(self, *couplings):
         """Add :class:`~seawall.coupling.Coupling` objects to a built simulation (before it runs)."""
@@ -309,6 +429,10 @@ class Simulation(Runner):
                 self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
             else:
                 self._wall_acts(wall, ctx)
+        if self._regularise:
+            self._regularisation_sums()
+            if self.fluid.transport_velocity is not None:
+                self._transport_velocity(ctx)
         for coupling in self.couplings:
             coupling.add_rates(self, ctx)
         if self.fluid.density_mode == "summation":
@@ -445,7 +569,10 @@ class Simulation(Runner):
         equation_of_state(fp["rho"], fp["m"], self.physics, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
 
     def _integrate(self, dt):
+        self._dt_now = dt
         self.integrator.step(self, dt)
+        if self.fluid.shifting is not None:
+            self._apply_shifting(dt)
 
     def _after_step(self, dt):
         for wall in self.walls:

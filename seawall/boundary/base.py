@@ -60,6 +60,8 @@ class CrossTerms(NamedTuple):
     laminar_viscosity: int
     density_diffusion: int
     xsph: int
+    shifting: int
+    transport_velocity: int
     all_pairs: int          # the artificial viscosity acts on receding pairs too
 
 

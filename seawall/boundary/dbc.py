@@ -402,7 +402,8 @@ class ImprovedDynamicBoundary(WallModel):
     #: DBC treats wall particles as neighbours like any other ([Li2022] sec. 2): the tensile
     #: correction and XSPH of the fluid act across the wall; the artificial viscosity is the wall's
     #: own (alpha_wall); no laminar viscosity or density diffusion
-    fluid_terms = frozenset({"continuity", "pressure", "tensile", "artificial_viscosity", "xsph"})
+    fluid_terms = frozenset({"continuity", "pressure", "tensile", "artificial_viscosity", "xsph", "shifting",
+                             "transport_velocity"})
     #: the wall's masses count in a summation-density fluid
     joins_summation_density = True
 

@@ -315,7 +315,7 @@ class DummyParticles(WallModel):
     @property
     def fluid_terms(self):
         """Continuity and pressure; with no slip a laminar term with the wall's own nu (not the fluid's)."""
-        terms = {"continuity", "pressure"}
+        terms = {"continuity", "pressure", "shifting", "transport_velocity"}
         if self.slip == "noslip":
             terms.add("laminar_viscosity")
         return frozenset(terms)

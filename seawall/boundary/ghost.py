@@ -330,7 +330,8 @@ class GhostParticles(WallModel):
     pairwise_momentum = True
     #: ghosts are ordinary neighbours with their mirrored state ([Huang2019] sec. 2.1), with the fluid's
     #: viscosities; no density diffusion across the wall (see the module doc)
-    fluid_terms = frozenset({"continuity", "pressure", "artificial_viscosity", "laminar_viscosity"})
+    fluid_terms = frozenset({"continuity", "pressure", "artificial_viscosity", "laminar_viscosity", "shifting",
+                             "transport_velocity"})
     #: the ghosts' hydrodynamic masses count in a summation-density fluid
     joins_summation_density = True
 

@@ -250,7 +250,7 @@ class Liu2015Wall(WallModel):
     def fluid_terms(self):
         """Continuity (eq. 21, its own normal form) unless off, pressure (eq. 22, its own normal,
         repulsive form) and, with no slip, the laminar term of eq. 9 with the wall's nu."""
-        terms = {"pressure"}
+        terms = {"pressure", "shifting", "transport_velocity"}
         if self.continuity != "off":
             terms.add("continuity")
         if self.slip == "noslip":

@@ -60,6 +60,13 @@ class Case:
     default_boundary: str = "adami"
     #: a case read from a file: {"path": ..., "sha256": ...} (None for the built-in cases)
     source: dict = None
+    #: whether the fluid has a free surface (the transport velocity then needs its free-surface correction)
+    free_surface: bool = True
+    #: the case's default particle regularisation (--set keys of :data:`REGULARISATION_KEYS`)
+    regularisation: dict = field(default_factory=dict)
+
+    def _regularisation(self, sim, given):
+        return _case_regularisation(self, sim, given)
 
     def resolve(self, overrides):
         params = {}
@@ -98,6 +105,7 @@ class Case:
         model_keys = boundary_options(boundary) if isinstance(boundary, str) else ()
         model_options = {k: overrides.pop(k) for k in list(overrides) if k in model_keys}
         adhesion = overrides.pop(ADHESION_KEY, None)
+        given_regularisation = {k: overrides.pop(k) for k in REGULARISATION_KEYS if k in overrides}
         given_options = dict(sorted({**model_options, **({ADHESION_KEY: adhesion} if adhesion is not None else {})}
                                     .items()))
         params = self.resolve(overrides)
@@ -112,6 +120,9 @@ class Case:
         if isinstance(boundary, str):
             wall_model()   # the name and options are checked even by cases without walls
         sim = self.builder(params, wall_model, threads)
+        regularisation = self._regularisation(sim, given_regularisation)
+        if regularisation is not None:
+            params.update(regularisation)
         if adhesion is not None:
             try:
                 beta = float(adhesion)
@@ -136,6 +147,63 @@ POSITIVE_IF_GIVEN = ("c0",)
 NON_NEGATIVE = ("alpha", "delta", "nu", "seed")
 #: ... must be >= 1
 AT_LEAST_ONE = ("layers",)
+
+
+#: the --set keys of the fluid's particle regularisation (seawall.fluid.regularisation), any SPH case:
+#: shifting = none | sun2017 | lind2012; transport_velocity = true | false; tvf_background = p_b / (rho0 c0^2);
+#: tvf_free_surface = the transport velocity's free-surface correction (true | false)
+REGULARISATION_KEYS = ("shifting", "transport_velocity", "tvf_background", "tvf_free_surface")
+
+
+def _bool_option(key, value):
+    if isinstance(value, bool):
+        return value
+    low = str(value).strip().lower()
+    if low not in ("1", "0", "true", "false", "yes", "no", "on", "off"):
+        raise ParameterError(f"{key} must be true or false, got {value!r}")
+    return low in ("1", "true", "yes", "on")
+
+
+def _case_regularisation(case, sim, given):
+    """Apply the case's default regularisation overridden by ``given`` (--set keys) to ``sim``; return the
+    resolved keys (for the parameters in summary.json and checkpoints), or None for a run without a fluid."""
+    from ..fluid.regularisation import ParticleShifting, SHIFTING_KINDS, TransportVelocity
+
+    if not hasattr(sim, "set_regularisation"):
+        if given:
+            raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
+        return None
+    opts = {**case.regularisation, **given}
+    fluid = sim.fluid
+    if not opts:    # what the builder gave the fluid
+        tv = fluid.transport_velocity
+        return {"shifting": fluid.shifting.kind if fluid.shifting is not None else "none",
+                "transport_velocity": tv is not None,
+                "tvf_background": (tv.background_factor if tv.background_pressure is None else None) if tv else None,
+                "tvf_free_surface": tv.free_surface if tv else None}
+    shifting = str(opts.get("shifting", "none")).strip().lower()
+    if shifting not in SHIFTING_KINDS:
+        raise ParameterError(f"shifting must be one of {', '.join(SHIFTING_KINDS)}; got {opts['shifting']!r}")
+    tvf = _bool_option("transport_velocity", opts.get("transport_velocity", False))
+    try:
+        factor = float(opts.get("tvf_background", 1.0))
+    except (TypeError, ValueError):
+        raise ParameterError(f"tvf_background must be a number, got {opts['tvf_background']!r}") from None
+    if not (math.isfinite(factor) and factor >= 0.0):
+        raise ParameterError(f"tvf_background must be a finite number >= 0, got {opts['tvf_background']!r}")
+    tvf_surface = _bool_option("tvf_free_surface", opts.get("tvf_free_surface", False))
+    if not tvf and ("tvf_background" in given or "tvf_free_surface" in given):
+        raise ParameterError(f"{'tvf_background' if 'tvf_background' in given else 'tvf_free_surface'} needs "
+                             f"--set transport_velocity=true")
+    if tvf and case.free_surface and not tvf_surface:
+        raise ParameterError(f"transport_velocity on case {case.name!r} (a free surface) needs its free-surface "
+                             f"correction, --set tvf_free_surface=true: without it the background pressure pulls "
+                             f"the surface particles into the fluid")
+    sim.set_regularisation(
+        shifting=ParticleShifting(shifting) if shifting != "none" else None,
+        transport_velocity=TransportVelocity(background_factor=factor, free_surface=tvf_surface) if tvf else None)
+    return {"shifting": shifting, "transport_velocity": tvf, "tvf_background": factor if tvf else None,
+            "tvf_free_surface": tvf_surface if tvf else None}
 
 
 def _check_ranges(case_name, params):

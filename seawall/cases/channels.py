@@ -164,6 +164,7 @@ def build_channel(params, wall_model, threads):
 
 CHANNEL = Case(
     name="channel",
+    free_surface=False,
     default_boundary="adami-noslip",
     description="plane Poiseuille flow through an inflow and an outflow zone (Lastiwka), no-slip plates "
                 "(adami-noslip by default)",
@@ -264,6 +265,7 @@ def duct_profile_error(sim, x_range=(0.25, 0.75)):
 
 PIPE_3D = Case(
     name="pipe-3d",
+    free_surface=False,
     default_boundary="adami-noslip",
     description="laminar flow through a square duct between an inflow and an outflow zone (Lastiwka), "
                 "no-slip walls (adami-noslip by default)",

@@ -131,9 +131,13 @@ def centrelines(sim, s, s_horizontal=None):
 
 CAVITY = Case(
     name="cavity",
+    free_surface=False,
     default_boundary="adami-noslip",
     description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 ([Liu2015] sec. 4.2; --set reynolds=100/1000 for "
-                "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default",
+                "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default; "
+                "no particle shifting by default (measured at Re = 100: sun2017 moves the centreline errors by about "
+                "1 % of U, lind2012 makes them worse, docs/validation-notes.md; --set shifting=sun2017 or "
+                "transport_velocity=true to use it)",
     builder=build_cavity,
     parameters={
         "dx": Parameter(None, "particle spacing [m] (default side/50, the seed's 2e-5 m)"),

@@ -1,6 +1,7 @@
 """The weakly compressible fluid system and its constitutive models."""
 
 from .models import ArtificialViscosity, DeltaSPH, LaminarViscosity, MolteniColagrossi
+from .regularisation import ParticleShifting, TransportVelocity
 from .system import FluidSystem
 
-__all__ = ["FluidSystem", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH"]
+__all__ = ["FluidSystem", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH", "ParticleShifting", "TransportVelocity"]

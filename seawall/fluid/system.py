@@ -6,6 +6,7 @@ from ..eos import EquationOfState
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..particles import ParticleArrays, initial_velocity
 from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi
+from .regularisation import as_shifting, as_transport_velocity
 
 DENSITY_MODES = ("continuity", "summation")
 
@@ -39,11 +40,20 @@ class FluidSystem:
         Initial pressure [Pa] as an (N,) array or a function of the (N, d)
         positions; the density follows from the inverse EOS. Default: zero
         pressure (reference density).
+    shifting : None, "none", "sun2017", "lind2012" or ParticleShifting
+        Particle shifting along the concentration gradient with the
+        free-surface correction ([Sun2017], [Lind2012]; seawall.fluid.regularisation).
+        Default None (off).
+    transport_velocity : None, bool or TransportVelocity
+        Transport-velocity formulation of [Adami2013] (background-pressure
+        advection velocity and the extra stress); ``True`` = p_b = rho0 c0^2,
+        no free-surface correction (internal flows). Default None (off).
     """
 
     def __init__(self, shape, *, rho0=1000.0, eos=None, viscosity="default",
                  density_diffusion=None, density="continuity", tensile_correction=False,
-                 xsph=0.0, velocity=None, pressure=None, name="fluid"):
+                 xsph=0.0, velocity=None, pressure=None, shifting=None, transport_velocity=None,
+                 name="fluid"):
         x = np.ascontiguousarray(getattr(shape, "positions", None), dtype=np.float64)
         if x.ndim != 2 or x.shape[1] not in (2, 3) or x.shape[0] == 0:
             raise ParameterError(f"fluid positions must be an (N, 2) or (N, 3) array with N > 0, got {x.shape}")
@@ -76,6 +86,8 @@ class FluidSystem:
         self.density_mode = density
         self.tensile_correction = bool(tensile_correction)
         self.xsph = require_nonnegative("xsph", xsph)
+        self.shifting = as_shifting(shifting)
+        self.transport_velocity = as_transport_velocity(transport_velocity)
 
         n = x.shape[0]
         pa = ParticleArrays(self.dim)

@@ -22,6 +22,12 @@ def test_surface_models_and_declared_terms():
     assert "laminar_viscosity" in boundary_by_name("adami-noslip").fluid_terms
     assert "laminar_viscosity" not in boundary_by_name("adami").fluid_terms
     assert boundary_by_name("continuity").integrated_arrays == ("rho",)
+    # layered walls count in particle shifting and the transport velocity, surface rows do not
+    for name in BOUNDARIES:
+        model = boundary_by_name(name)
+        layered = model.layout == "layers"
+        assert ("shifting" in model.fluid_terms) == layered, name
+        assert ("transport_velocity" in model.fluid_terms) == layered, name
 
 
 def test_legacy_wall_layout_attribute_still_sets_the_layout():

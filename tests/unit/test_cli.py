@@ -101,6 +101,8 @@ def test_bench_prints_one_json_line(capsys):
     (["run", "no-such-case"], "unknown case"),
     (["run", "hydrostatic", "--boundary", "teflon"], "unknown boundary"),
     (["run", "hydrostatic", "--set", "colour=red"], "no parameter 'colour'"),
+    (["run", "taylor-green", "--set", "shifting=sideways"], "shifting must be one of"),
+    (["run", "dam-break", "--set", "transport_velocity=true"], "needs its free-surface correction"),
 ])
 def test_bad_input_gives_one_line_without_traceback(args, word, tmp_path):
     proc = subprocess.run([sys.executable, "-m", "seawall", *args, "--out", str(tmp_path / "x")]
@@ -131,3 +133,14 @@ def test_flows_that_need_no_slip_run_with_their_own_default_wall(tmp_path):
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert json.loads((out / "summary.json").read_text())["boundary"] == "adami-noslip"
+
+
+def test_regularisation_options_reach_summary_json(tmp_path, capsys):
+    out_dir = tmp_path / "tgv"
+    code, _, _ = run_cli(["run", "taylor-green", "--t-end", "0.002", "--out", str(out_dir), "--no-progress",
+                          "--set", "n=16", "--set", "shifting=lind2012", "--set", "transport_velocity=true",
+                          "--set", "tvf_background=2"], capsys)
+    assert code == 0
+    params = json.loads((out_dir / "summary.json").read_text())["parameters"]
+    assert params["shifting"] == "lind2012" and params["transport_velocity"] is True
+    assert params["tvf_background"] == 2.0 and params["tvf_free_surface"] is False

