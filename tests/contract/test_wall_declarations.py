@@ -9,7 +9,7 @@ import pytest
 
 from seawall.boundary.base import WallModel, check_contract
 from seawall.boundary.dbc import DynamicBoundary
-from seawall.boundary.registry import boundary_by_name
+from seawall.boundary.registry import BOUNDARIES, boundary_by_name
 from seawall.cases import CASES
 from seawall.errors import ParameterError
 
