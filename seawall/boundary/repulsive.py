@@ -25,7 +25,7 @@ K scales the force; Monaghan & Kajtar use g D for a tank of depth D, which is
 the default here (D = the fluid's initial vertical extent).
 
 ``mass_factor``: ``"pair"`` (default) keeps the factor 2 m_b / (m_a + m_b) of the
-formula above ([TrixiBoundary]; Monaghan & Kajtar 2009 eq. 3.1); ``"none"``
+formula above ([TrixiBoundary]; [MonaghanKajtar2009] eq. 3.1); ``"none"``
 drops it, as TrixiParticles' code does. The two agree when
 K_none = K_pair 2 m_b / (m_a + m_b); with seawall's masses (m_a = rho0 dx^n,
 m_b = rho0 (dx / beta)^n) that is K_none = 2 K_pair / (1 + beta^n)
@@ -59,7 +59,7 @@ def wendland_c4_1d(q):
 def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b, pair_mass=True):
     """The scalar s with f~_ab = s r_ab ([TrixiBoundary]); the distance in (|r| - d) floored at 1.01 d.
 
-    ``pair_mass``: multiply by 2 m_b / (m_a + m_b) ([TrixiBoundary], Monaghan & Kajtar 2009 eq. 3.1);
+    ``pair_mass``: multiply by 2 m_b / (m_a + m_b) ([TrixiBoundary], [MonaghanKajtar2009] eq. 3.1);
     False drops the factor (TrixiParticles' code).
     """
     rr = r if r > 1.01 * d else 1.01 * d
