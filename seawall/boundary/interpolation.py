@@ -529,8 +529,8 @@ def solve_with_determinant(A, B, m, nrhs):
 
 
 @njit(cache=True)
-def corrected_point(layout, first_order, det_min, p0, p1, p2, xf, fields, vol, start, order, lo, inv_cell, ncell,
-                    period, prm, value, grad, k):
+def corrected_point(layout, first_order, det_min, clip_from, p0, p1, p2, xf, fields, vol, start, order, lo,
+                    inv_cell, ncell, period, prm, value, grad, k):
     """First-order kernel-corrected SPH interpolation of ``fields`` and their gradients at x0 ([LiuLiu2006]
     sec. 3, the corrective scheme that [English2022] sec. 2 uses at the mDBC ghost nodes).
 
@@ -544,7 +544,9 @@ def corrected_point(layout, first_order, det_min, p0, p1, p2, xf, fields, vol, s
     matrix is dimensionless in its determinant (rows 2.. scale as 1/L, columns 2.. as L), ~1 in a full
     neighbourhood; when |det| < ``det_min`` (or ``first_order`` is False) the value falls back to the
     Shepard average sum V f W / sum V W with zero gradient ([English2022]: zeroth order where the matrix
-    is ill-conditioned). Writes ``value[k, q]`` and ``grad[k, q, :]``; returns (neighbour count,
+    is ill-conditioned). Columns q >= ``clip_from`` are limited to the neighbours' range
+    [min_j f_j, max_j f_j] after a first-order solve (the limiter of the MLS and SFDI fits above; a
+    value at x0 inside the neighbours' hull of a linear field is never clipped). Writes ``value[k, q]`` and ``grad[k, q, :]``; returns (neighbour count,
     outcome: CORRECTED_NONE / CORRECTED_SHEPARD / CORRECTED_LINEAR).
     """
     dim = tag_dim(layout)
@@ -558,6 +560,8 @@ def corrected_point(layout, first_order, det_min, p0, p1, p2, xf, fields, vol, s
     B = np.zeros((m, nf))
     e = np.zeros(3)
     gw = np.zeros(3)
+    fmin = np.full(nf, np.inf)
+    fmax = np.full(nf, -np.inf)
     cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
     cnt = 0
     for row in range(nrows):
@@ -593,6 +597,11 @@ def corrected_point(layout, first_order, det_min, p0, p1, p2, xf, fields, vol, s
                     B[0, qf] += vw * fj
                     for a in range(dim):
                         B[1 + a, qf] += gw[a] * fj
+                    if qf >= clip_from:
+                        if fj < fmin[qf]:
+                            fmin[qf] = fj
+                        if fj > fmax[qf]:
+                            fmax[qf] = fj
     for qf in range(nf):
         value[k, qf] = 0.0
         for a in range(grad.shape[2]):
@@ -605,7 +614,10 @@ def corrected_point(layout, first_order, det_min, p0, p1, p2, xf, fields, vol, s
         det = solve_with_determinant(A.copy(), S, m, nf)
         if abs(det) >= det_min:
             for qf in range(nf):
-                value[k, qf] = S[0, qf]
+                fv0 = S[0, qf]
+                if qf >= clip_from:
+                    fv0 = min(max(fv0, fmin[qf]), fmax[qf])
+                value[k, qf] = fv0
                 for a in range(dim):
                     grad[k, qf, a] = S[1 + a, qf]
             return cnt, CORRECTED_LINEAR

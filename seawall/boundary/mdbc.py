@@ -73,7 +73,8 @@ def mdbc_wall_state(layout, xw, ghost, vwall, xf, fields, vol, start, order, lo,
     dim = tag_dim(layout)
     for b in prange(xw.shape[0]):
         g0, g1, g2 = point_of(ghost, b, dim)
-        cnt, how = corrected_point(layout, first_order, det_min, g0, g1, g2, xf, fields, vol, start, order, lo,
+        # the velocity (columns 1..) is limited to the neighbours' range; the density is extrapolated
+        cnt, how = corrected_point(layout, first_order, det_min, 1, g0, g1, g2, xf, fields, vol, start, order, lo,
                                    inv_cell, ncell, period, prm, value, grad, b)
         outcome[b] = how
         vw0, vw1, vw2 = point_of(vwall, b, dim)

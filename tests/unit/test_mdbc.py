@@ -40,7 +40,7 @@ def _corrected(grid, cells, prm, xf, fields, vol, points, first_order=True, det_
     how = []
     for k, p in enumerate(points):
         p3 = list(p) + [0.0] * (3 - len(p))
-        _, outcome = corrected_point(grid.layout, first_order, det_min, p3[0], p3[1], p3[2], xf, fields, vol,
+        _, outcome = corrected_point(grid.layout, first_order, det_min, nf, p3[0], p3[1], p3[2], xf, fields, vol,
                                      cells.start, cells.order, grid.lo, grid.inv_cell, grid.ncell, grid.period,
                                      prm, value, grad, k)
         how.append(outcome)
