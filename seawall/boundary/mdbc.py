@@ -33,7 +33,9 @@ corrected interpolation and fallback) is mirrored through the wall,
 
     v_b = 2 v_w - v_g,
 
-so that the velocity interpolated halfway, on the surface, is v_w.
+so that the velocity interpolated halfway, on the surface, is v_w. The
+first-order v_g is limited to its neighbours' range, component by component
+(docs/boundaries.md, "mDBC", choice 2).
 
 The wall particles act on the fluid through the fluid's own pair terms
 (continuity with v_b, pressure, the fluid's artificial and laminar
