@@ -38,8 +38,9 @@ first-order v_g is limited to its neighbours' range, component by component
 (docs/boundaries.md, "mDBC", choice 2).
 
 The wall particles act on the fluid through the fluid's own pair terms
-(continuity with v_b, pressure, the fluid's artificial and laminar
-viscosity), as DBC particles do in [English2022]; the loop is the ghost
+(continuity with the wall's own velocity v_w, pressure, the fluid's
+artificial and laminar viscosity with v_b), as DBC particles do in
+[English2022]; the loop is the ghost
 walls' :func:`seawall.boundary.ghost.ghost_forces` (the same terms, not a
 copy). Choices where the paper leaves room are listed in docs/boundaries.md
 ("mDBC").
