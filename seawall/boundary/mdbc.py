@@ -198,7 +198,7 @@ class ModifiedDynamicBoundary(WallModel):
 
     def interact(self, fluid, wall, ctx, dv, drho):
         # continuity with the wall's own velocity, viscosity with the mirrored one (as the Adami
-        # no-slip wall, docs/boundaries.md "mDBC", choice 6); identical for slip="vel0"
+        # no-slip wall, docs/boundaries.md "mDBC", choice 7); identical for slip="vel0"
         ghost_forces(fluid_view(fluid.particles), wall_view(wall.particles, v="v", v_visc="v_mdbc"),
                      cell_view(ctx.grid, wall.cells), ctx.physics, self.cross_terms(ctx.physics),
                      rates_bundle(fluid, ctx, dv, drho))
