@@ -113,7 +113,8 @@ def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm,
 def ghost_forces(fluid, wall, cells, prm, terms, rates):
     """Add the ghost particles' terms to the fluid's rates (gather over ghost cells; formulas in the module doc).
 
-    ``wall.v`` holds the mirrored ghost velocities; ``terms`` (:class:`~seawall.boundary.base.CrossTerms`)
+    ``wall.v`` is the velocity in the continuity term and ``wall.v_visc`` the one in the viscous terms
+    (both the mirrored ghost velocities for ghost walls; mDBC may split them); ``terms`` (:class:`~seawall.boundary.base.CrossTerms`)
     says which of the fluid's viscous terms act across the wall.
     """
     layout = cells.layout
@@ -123,7 +124,8 @@ def ghost_forces(fluid, wall, cells, prm, terms, rates):
     pf = fluid.p
     cf = fluid.c
     xg = wall.x
-    vg = wall.v
+    vc = wall.v         # velocity in the continuity term
+    vg = wall.v_visc    # velocity in the viscous terms (the same array for ghost walls)
     rhog = wall.rho
     pg = wall.p
     mg = wall.m
@@ -167,12 +169,13 @@ def ghost_forces(fluid, wall, cells, prm, terms, rates):
                     f = gradient_factor(prm.kernel, gradient_scale, r * inv_h)
                     mb = mg[b]
                     rhob = rhog[b]
+                    c0_, c1_, c2_ = point_of(vc, b, dim)
+                    dr += continuity(mb, (vi0 - c0_) * d0 + (vi1 - c1_) * d1 + (vi2 - c2_) * d2, f)
                     w0, w1, w2 = point_of(vg, b, dim)
                     u0 = vi0 - w0
                     u1 = vi1 - w1
                     u2 = vi2 - w2
                     vr = u0 * d0 + u1 * d1 + u2 * d2
-                    dr += continuity(mb, vr, f)
                     coef = pr_i + pg[b] / (rhob * rhob)
                     if alpha > 0.0 and viscosity_acts(vr, terms.all_pairs):
                         cb = eos_sound_speed(prm.eos, rhob, prm.rho0, prm.c0, prm.gamma)

@@ -46,11 +46,11 @@ def _sfdi(sfdi_diagonal=False):
     return SFDI(diagonal=_flag(sfdi_diagonal))
 
 
-def _monaghan_kajtar(*, K=None, beta=3.0, alpha_wall=0.0):
+def _monaghan_kajtar(*, K=None, beta=3.0, alpha_wall=0.0, mass_factor="pair"):
     from .repulsive import MonaghanKajtar
 
     return MonaghanKajtar(K=None if K is None else _number("K", K), beta=_number("beta", beta),
-                          alpha_wall=_number("alpha_wall", alpha_wall))
+                          alpha_wall=_number("alpha_wall", alpha_wall), mass_factor=str(mass_factor).strip())
 
 
 def _liu2015(default_slip="free"):
@@ -59,6 +59,14 @@ def _liu2015(default_slip="free"):
 
         return Liu2015Wall(slip=str(slip), nu=None if wall_nu is None else _number("wall_nu", wall_nu),
                            continuity=str(continuity))
+    return factory
+
+
+def _mdbc(default_slip):
+    def factory(*, slip=default_slip, order=1, det_min=1e-3):
+        from .mdbc import ModifiedDynamicBoundary
+
+        return ModifiedDynamicBoundary(slip=str(slip), order=order, det_min=det_min)
     return factory
 
 
@@ -131,7 +139,7 @@ BOUNDARIES = {
                       "fixed ghost particles, improved Shepard interpolation ([Huang2019]); "
                       "slip, reflect, shepard_mu, shepard_lambda"),
     "monaghan-kajtar": (_monaghan_kajtar, "repulsive wall particles, Monaghan & Kajtar (2009), one row at dx/beta "
-                        "(--set K=... beta=3 alpha_wall=0)"),
+                        "(--set K=... beta=3 alpha_wall=0 mass_factor=pair|none)"),
     "dbc": (_dynamic(DynamicBoundary),
             "dynamic boundary particles, Crespo et al. (2007): continuity + linear EOS ([Li2022] eq. 12)"),
     "idbc": (_dynamic(ImprovedDynamicBoundary),
@@ -140,6 +148,9 @@ BOUNDARIES = {
     "liu2015": (_liu2015(), "dummy particles of Liu et al. (2015, [Liu2015]): normal-only repulsive pressure term, "
                 "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off)"),
     "liu2015-noslip": (_liu2015("noslip"), "Liu et al. (2015) dummy particles with no slip (eq. 28-29)"),
+    "mdbc": (_mdbc("vel0"), "modified DBC, English et al. (2022, [English2022]): wall density extrapolated from a "
+             "mirrored ghost node, first-order corrected (--set order=1|0 det_min=1e-3 slip=vel0|noslip)"),
+    "mdbc-noslip": (_mdbc("noslip"), "mDBC with no slip: v_b = 2 v_w - v_ghost ([English2022])"),
     "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2 c=<force speed, "
                 "default c0>)"),
 }

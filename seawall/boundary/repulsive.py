@@ -23,6 +23,13 @@ the seed's sense; free slip without it).
 
 K scales the force; Monaghan & Kajtar use g D for a tank of depth D, which is
 the default here (D = the fluid's initial vertical extent).
+
+``mass_factor``: ``"pair"`` (default) keeps the factor 2 m_b / (m_a + m_b) of the
+formula above ([TrixiBoundary]; [MonaghanKajtar2009] eq. 3.1); ``"none"``
+drops it, as TrixiParticles' code does. The two agree when
+K_none = K_pair 2 m_b / (m_a + m_b); with seawall's masses (m_a = rho0 dx^n,
+m_b = rho0 (dx / beta)^n) that is K_none = 2 K_pair / (1 + beta^n)
+(docs/boundaries.md, "Monaghan-Kajtar: the mass factor and K").
 """
 
 from typing import NamedTuple
@@ -36,6 +43,8 @@ from ..pairs import gradient_factor, monaghan_viscosity, pressure_acceleration, 
 from ..views import cell_view, fluid_view, wall_view
 from .base import WallModel
 
+#: "pair": 2 m_b / (m_a + m_b) in the force ([TrixiBoundary]); "none": without it (TrixiParticles' code)
+MASS_FACTORS = ("pair", "none")
 
 @njit(cache=True, inline="always")
 def wendland_c4_1d(q):
@@ -47,10 +56,17 @@ def wendland_c4_1d(q):
 
 
 @njit(cache=True, inline="always")
-def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b):
-    """The scalar s with f~_ab = s r_ab ([TrixiBoundary]); the distance in (|r| - d) floored at 1.01 d."""
+def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b, pair_mass=True):
+    """The scalar s with f~_ab = s r_ab ([TrixiBoundary]); the distance in (|r| - d) floored at 1.01 d.
+
+    ``pair_mass``: multiply by 2 m_b / (m_a + m_b) ([TrixiBoundary], [MonaghanKajtar2009] eq. 3.1);
+    False drops the factor (TrixiParticles' code).
+    """
     rr = r if r > 1.01 * d else 1.01 * d
-    return K / beta ** (dim - 1) / (r * (rr - d)) * wendland_c4_1d(r / h) * 2.0 * m_b / (m_a + m_b)
+    s = K / beta ** (dim - 1) / (r * (rr - d)) * wendland_c4_1d(r / h)
+    if pair_mass:
+        s *= 2.0 * m_b / (m_a + m_b)
+    return s
 
 
 class RepulsiveParams(NamedTuple):
@@ -60,6 +76,7 @@ class RepulsiveParams(NamedTuple):
     beta: float         # fluid spacing / wall spacing
     spacing: float      # wall spacing d = dx / beta
     alpha_wall: float   # artificial viscosity of the fluid-wall pair (0 = free slip)
+    pair_mass: int      # 1: factor 2 m_b / (m_a + m_b) (default), 0: without it (TrixiParticles' code)
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
@@ -89,6 +106,7 @@ def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
     beta = rep.beta
     spacing = rep.spacing
     alpha_wall = rep.alpha_wall
+    pair_mass = rep.pair_mass != 0
     dim = tag_dim(layout)
     periodic = tag_periodic(layout)
     nrows = 25 if dim == 3 else 5
@@ -111,7 +129,7 @@ def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)
-                    s = repulsive_acceleration_factor(r, h, spacing, K, beta, dim, mf[i], mw[b])
+                    s = repulsive_acceleration_factor(r, h, spacing, K, beta, dim, mf[i], mw[b], pair_mass)
                     if alpha_wall > 0.0:
                         vb0, vb1, vb2 = point_of(vw, b, dim)
                         vr = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
@@ -141,6 +159,9 @@ class MonaghanKajtar(WallModel):
         Fluid spacing / wall spacing, 3 by default (Monaghan & Kajtar, sec. 4).
     alpha_wall : float
         Artificial viscosity of the fluid-wall pair (0 = free slip).
+    mass_factor : {"pair", "none"}
+        ``pair`` (default): the force carries 2 m_b / (m_a + m_b) ([TrixiBoundary]);
+        ``none``: without it, as TrixiParticles' code (see the module doc for K).
 
     The wall must be a single row of particles on the surface at spacing
     dx / beta: :func:`seawall.shapes.tank_surface` (the tank cases build it
@@ -162,10 +183,13 @@ class MonaghanKajtar(WallModel):
         """Only the pair's artificial viscosity (with alpha_wall), when alpha_wall > 0."""
         return frozenset({"artificial_viscosity"}) if self.alpha_wall > 0.0 else frozenset()
 
-    def __init__(self, *, K=None, beta=3.0, alpha_wall=0.0):
+    def __init__(self, *, K=None, beta=3.0, alpha_wall=0.0, mass_factor="pair"):
         self.K = None if K is None else require_positive("K", K)
         self.beta = require_positive("beta", beta)
         self.alpha_wall = require_nonnegative("alpha_wall", alpha_wall)
+        if mass_factor not in MASS_FACTORS:
+            raise ParameterError(f"mass_factor must be one of {', '.join(MASS_FACTORS)}; got {mass_factor!r}")
+        self.mass_factor = mass_factor
         self._K = 0.0
 
     def check(self, fluid, physics):
@@ -195,10 +219,10 @@ class MonaghanKajtar(WallModel):
         """Repulsive particles carry no state to update."""
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        rep = RepulsiveParams(self._K, self.beta, wall.spacing, self.alpha_wall)
+        rep = RepulsiveParams(self._K, self.beta, wall.spacing, self.alpha_wall, int(self.mass_factor == "pair"))
         repulsive_wall_forces(fluid_view(fluid.particles), wall_view(wall.particles),
                               cell_view(ctx.grid, wall.cells, reach=True), ctx.physics, rep,
                               self.cross_terms(ctx.physics), dv)
 
     def describe(self):
-        return self.name
+        return self.name if self.mass_factor == "pair" else f"{self.name} (mass_factor {self.mass_factor})"

@@ -23,7 +23,7 @@ def by_hand(r_vec, K, m_a, m_b, dim=2):
     return K / BETA ** (dim - 1) * r_vec / (r * (r - D)) * phi(r / H) * 2 * m_b / (m_a + m_b)
 
 
-def one_particle_acceleration(y, K=2.0):
+def one_particle_acceleration(y, K=2.0, mass_factor="pair"):
     """A single fluid particle at height y above a row of wall particles on y = 0 (no gravity)."""
     # built at a legal height (the overlap check wants >= 0.5 dx), then moved to y
     fluid = sw.FluidSystem(Shape(np.array([[0.0013, DX]]), DX), eos=sw.Tait(c0=10.0), viscosity=None)
@@ -31,7 +31,7 @@ def one_particle_acceleration(y, K=2.0):
     wall_shape = Shape(np.stack([xs, np.zeros_like(xs)], axis=1), D,
                        normals=np.tile([0.0, 1.0], (xs.size, 1)),
                        surface_points=np.stack([xs, np.zeros_like(xs)], axis=1))
-    wall = sw.WallSystem(wall_shape, model=MonaghanKajtar(K=K, beta=BETA))
+    wall = sw.WallSystem(wall_shape, model=MonaghanKajtar(K=K, beta=BETA, mass_factor=mass_factor))
     sim = sw.Simulation([fluid, wall], h=H, domain=((-0.1, -0.05), (0.1, 0.1)))
     sim.fluid.particles["x"][0, 1] = y
     sim.evaluate(0.0)
@@ -88,3 +88,24 @@ def test_acceleration_equals_the_formula_in_3d():
         expected = sum(by_hand(p - q, 2.0, m_a, m_b, dim=3) for q in patch if np.linalg.norm(p - q) < 2 * H)
         np.testing.assert_allclose(sim.fluid.particles["dv"][0], expected, rtol=1e-9)
         assert sim.fluid.particles["dv"][0][2] > 0.0
+
+
+@pytest.mark.parametrize("y", [0.5 * DX, 1.2 * DX])
+def test_mass_factor_none_is_the_pair_form_over_its_factor(y):
+    # TrixiParticles' code form: the same force without 2 m_b / (m_a + m_b); with seawall's masses
+    # (m_b / m_a = beta^-2 in 2D) the pair form is 2 / (1 + beta^2) = 0.2 of it (docs/boundaries.md)
+    pair, _ = one_particle_acceleration(y)
+    none, _ = one_particle_acceleration(y, mass_factor="none")
+    scale = np.abs(pair).max()
+    np.testing.assert_allclose(pair, none * 2.0 / (1.0 + BETA ** 2), rtol=1e-12, atol=1e-12 * scale)
+    # the conversion of K: K_none = K_pair 2 / (1 + beta^2) gives the same acceleration
+    converted, _ = one_particle_acceleration(y, K=2.0 * 2.0 / (1.0 + BETA ** 2), mass_factor="none")
+    np.testing.assert_allclose(converted, pair, rtol=1e-12, atol=1e-12 * scale)
+
+
+def test_mass_factor_refuses_unknown_values():
+    with pytest.raises(sw.ParameterError, match="mass_factor"):
+        MonaghanKajtar(K=1.0, mass_factor="trixi")
+    from seawall.boundary.registry import boundary_by_name
+
+    assert boundary_by_name("monaghan-kajtar", {"mass_factor": "none"}).mass_factor == "none"

@@ -28,7 +28,7 @@ RUNS = os.path.join(HERE, "runs")   # the compare runs (not committed)
 A = 0.146
 
 MODELS = ["adami", "adami-noslip", "summation", "continuity", "zeroing", "mirroring", "monaghan-kajtar",
-          "dbc", "idbc", "ghost-mls1", "ghost-sfdi", "ghost-normalized", "ghost-shepard"]
+          "dbc", "idbc", "ghost-mls1", "ghost-sfdi", "ghost-normalized", "ghost-shepard", "mdbc", "mdbc-noslip"]
 
 
 def front_error(run_dir, ref_file, folder):
@@ -54,8 +54,11 @@ def main(argv=None):
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--models", help="comma-separated subset (adami first for the cost column)")
     args = parser.parse_args(argv)
     models = ["adami", "dbc", "ghost-shepard"] if args.quick else MODELS
+    if args.models:
+        models = [m.strip() for m in args.models.split(",") if m.strip()]
     os.makedirs(OUT, exist_ok=True)
     hydro = compare("hydrostatic", models, out=os.path.join(RUNS, "table_hydrostatic"), dx=0.02, t_end=1.5)
     coll = compare("collapse", models, out=os.path.join(RUNS, "table_collapse"), dx=A / 40, t_end=0.3)
