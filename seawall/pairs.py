@@ -94,6 +94,43 @@ def laminar_viscosity(m_j, nu, rho_i, rho_j, f, r2, eta2):
     return m_j * nu * (rho_i + rho_j) / (rho_i * rho_j) * f * r2 / (r2 + eta2)
 
 
+# ---------------------------------------------------------------- Riemann formulation
+@njit(cache=True, inline="always")
+def riemann_pressure(p_i, p_j, vr, r, rho0c0, c0, eta):
+    """Interface pressure P* of the linearised Riemann problem between i and j with the
+    low-dissipation limiter ([Zhang2017] sec. 3.1-3.2):
+
+        P* = (p_i + p_j)/2 + beta rho0 c0 (U_L - U_R)/2,   beta = min(eta max(U_L - U_R, 0) / c0, 1),
+
+    U_L = v_i . e, U_R = v_j . e along e = r_ji / |r_ji| (from i towards j), so
+    U_L - U_R = -v_ij . r_ij / r = -vr / r: positive for approaching pairs, the only ones
+    that get dissipation; eta = 3 in [Zhang2017]. The impedance is the reference one,
+    rho0 c0 (weakly compressible: rho c differs from it by O(Mach^2))."""
+    du = -vr / r
+    beta = min(eta * max(du, 0.0) / c0, 1.0)
+    return 0.5 * (p_i + p_j) + 0.5 * beta * rho0c0 * du
+
+
+@njit(cache=True, inline="always")
+def riemann_momentum_coefficient(p_star, rho_i, rho_j):
+    """The bracket of :func:`pressure_acceleration` for the Riemann momentum equation
+    dv_i/dt = -sum_j 2 m_j P* / (rho_i rho_j) grad_i W_ij ([Zhang2017] sec. 3.1)."""
+    return 2.0 * p_star / (rho_i * rho_j)
+
+
+@njit(cache=True, inline="always")
+def riemann_continuity(rho_i, vol_j, vr, p_i, p_j, r, rho0c0, f):
+    """drho_i/dt term 2 rho_i V_j (v_i - v*) . grad_i W_ij of [Zhang2017] sec. 3.1, with the
+    interface velocity v* = (v_i + v_j)/2 + (U* - (U_L + U_R)/2) e of the linearised Riemann
+    problem, U* - (U_L + U_R)/2 = (p_i - p_j) / (2 rho0 c0) (no limiter on U*, [Zhang2017] sec. 3.2).
+    With grad_i W = f r_ij and e . r_ij = -r this is
+
+        rho_i V_j f (v_ij . r_ij + (p_i - p_j) r / (rho0 c0)):
+
+    the central continuity term plus a pressure (density) diffusion. ``vr`` = v_ij . r_ij."""
+    return rho_i * vol_j * f * (vr + (p_i - p_j) * r / rho0c0)
+
+
 # ---------------------------------------------------------------- density diffusion
 @njit(cache=True, inline="always")
 def density_diffusion(coef, vol_j, rho_i, rho_j, f, renormalised, g_dot_r):
