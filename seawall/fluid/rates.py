@@ -36,8 +36,8 @@ from numba import njit, prange
 from ..eos import eos_pressure, eos_sound_speed
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..pairs import (continuity, density_diffusion, gradient_factor, kernel_value, laminar_viscosity,
-                     monaghan_viscosity, pressure_acceleration, riemann_continuity, riemann_momentum_coefficient,
-                     riemann_pressure, tensile_coefficient, tensile_term, viscosity_acts, xsph_weight)
+                     monaghan_viscosity, pressure_acceleration, riemann_continuity, riemann_fluid_jump,
+                     riemann_momentum_coefficient, riemann_pressure, tensile_coefficient, tensile_term, viscosity_acts, xsph_weight)
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
@@ -267,7 +267,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next):
                     if riemann:
                         dr += riemann_continuity(rhoi, volume[j], vr, pi, p[j], r, rho0c0, f)
                         coef = riemann_momentum_coefficient(
-                            riemann_pressure(pi, p[j], vr, r, rho0c0, prm.c0, prm.riemann_eta), rhoi, rhoj)
+                            riemann_pressure(pi, p[j], riemann_fluid_jump(vr, r), rho0c0, prm.c0, prm.riemann_eta), rhoi, rhoj)
                     else:
                         dr += continuity(mj, vr, f)
                         coef = pr_i + p_over_rho2[j]

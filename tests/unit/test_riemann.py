@@ -18,7 +18,8 @@ from seawall import cases
 from seawall.eos import Tait
 from seawall.errors import ParameterError
 from seawall.fluid import ArtificialViscosity, DeltaSPH, FluidSystem, RiemannSolver
-from seawall.pairs import continuity, riemann_continuity, riemann_momentum_coefficient, riemann_pressure
+from seawall.pairs import (continuity, riemann_continuity, riemann_fluid_jump, riemann_momentum_coefficient,
+                           riemann_pressure, riemann_wall_jump)
 from seawall import shapes
 
 RHO0, C0, ETA = 1000.0, 20.0, 3.0
@@ -28,25 +29,38 @@ Z = RHO0 * C0
 def test_interface_pressure_is_symmetric():
     # vr = v_ij . r_ij and r are the same for the pair seen from j; only the pressures swap
     for vr in (-0.3, -1e-3, 0.0, 0.2):
-        a = riemann_pressure(1500.0, 900.0, vr, 0.01, Z, C0, ETA)
-        b = riemann_pressure(900.0, 1500.0, vr, 0.01, Z, C0, ETA)
+        # seen from j, r_ji = -r_ij and v_ji = -v_ij: the same v . r, the same jump
+        a = riemann_pressure(1500.0, 900.0, riemann_fluid_jump(vr, 0.01), Z, C0, ETA)
+        b = riemann_pressure(900.0, 1500.0, riemann_fluid_jump(vr, 0.01), Z, C0, ETA)
         assert a == b
         assert riemann_momentum_coefficient(a, 1001.0, 999.0) == riemann_momentum_coefficient(b, 999.0, 1001.0)
 
 
 def test_no_dissipation_for_receding_or_equal_velocity_pairs():
     for vr in (0.0, 1e-4, 0.5):
-        assert riemann_pressure(1200.0, 800.0, vr, 0.01, Z, C0, ETA) == pytest.approx(1000.0, rel=1e-15)
+        assert riemann_pressure(1200.0, 800.0, riemann_fluid_jump(vr, 0.01), Z, C0, ETA) == pytest.approx(
+            1000.0, rel=1e-15)
 
 
 def test_limiter_quadratic_then_acoustic():
     r = 0.01
     du = 0.01                                  # approach speed, far below c0 / eta
-    extra = riemann_pressure(0.0, 0.0, -du * r, r, Z, C0, ETA)
+    extra = riemann_pressure(0.0, 0.0, riemann_fluid_jump(-du * r, r), Z, C0, ETA)
     assert extra == pytest.approx(0.5 * ETA * RHO0 * du * du, rel=1e-12)
     du = 2.0 * C0 / ETA                        # beyond the limiter's cap
-    extra = riemann_pressure(0.0, 0.0, -du * r, r, Z, C0, ETA)
+    extra = riemann_pressure(0.0, 0.0, riemann_fluid_jump(-du * r, r), Z, C0, ETA)
     assert extra == pytest.approx(0.5 * Z * du, rel=1e-12)
+
+
+def test_wall_jump_is_normal_and_mirrored():
+    # a particle moving into the wall at speed u (velocity . n = -u) meets the mirrored state: jump 2u,
+    # and with the cap reached the acoustic water-hammer pressure rho0 c0 u of a rigid wall
+    u = C0
+    assert riemann_wall_jump(-u) == 2.0 * u
+    assert riemann_pressure(0.0, 0.0, riemann_wall_jump(-u), Z, C0, ETA) == pytest.approx(Z * u, rel=1e-12)
+    # sliding along the wall (velocity . n = 0) or leaving it: no dissipation
+    assert riemann_pressure(300.0, 500.0, riemann_wall_jump(0.0), Z, C0, ETA) == 400.0
+    assert riemann_pressure(300.0, 500.0, riemann_wall_jump(0.5), Z, C0, ETA) == 400.0
 
 
 def test_continuity_central_at_equal_pressure_and_diffusive_otherwise():

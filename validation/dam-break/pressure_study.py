@@ -182,9 +182,8 @@ def table(n, readout_rows=("point", "point-avg")):
         if r is None:
             return f"{v:.3f}"
         return f"{v:.3f} ({100 * (v - r) / r:+.0f} %)" if rel else f"{v:.3f} ({v - r:+.3f})"
-    for name in VARIANTS:
-        if name not in res:
-            continue
+    # stored results of variants no longer in VARIANTS (an earlier form of a choice) are listed last
+    for name in [k for k in VARIANTS if k in res] + [k for k in res if k not in VARIANTS]:
         info = res[name]
         for readout, f in info["readouts"].items():
             if name != "default" and readout not in readout_rows:
