@@ -65,6 +65,8 @@ VARIANTS = {
     "analytic": ({"initial": "analytic"}, "initial pressure from the Laplace problem instead of rest"),
     "riemann": ({"riemann": True, "alpha": 0.0, "delta": 0.0},
                 "Riemann continuity and momentum, low-dissipation limiter eta = 3 ([Zhang2017]); no alpha, no delta"),
+    "riemann-c0-10": ({"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": 10.0 * math.sqrt(G * H)},
+                      "Riemann formulation (as riemann) with c0 = 10 sqrt(gH)"),
 }
 
 
