@@ -67,6 +67,9 @@ VARIANTS = {
                 "Riemann continuity and momentum, low-dissipation limiter eta = 3 ([Zhang2017]); no alpha, no delta"),
     "riemann-c0-10": ({"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": 10.0 * math.sqrt(G * H)},
                       "Riemann formulation (as riemann) with c0 = 10 sqrt(gH)"),
+    "riemann-c0-10-eta1": ({"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": 10.0 * math.sqrt(G * H),
+                            "riemann_eta": 1.0},
+                           "as riemann-c0-10 with the limiter's eta = 1 (less dissipation)"),
 }
 
 
@@ -173,7 +176,10 @@ def table(n, readout_rows=("point", "point-avg")):
     ref_d = dict(zip(IMPACT_FEATURES, ref))
     lines = [f"H/{n}: Buchner (mean of the two digitisations): arrival {ref_d['arrival']:.3f}, first peak "
              f"{ref_d['first_peak']:.3f}, plateau {ref_d['plateau']:.3f}, secondary peak "
-             f"{ref_d['secondary_peak']:.3f} at t* {ref_d['secondary_time']:.3f}", "",
+             f"{ref_d['secondary_peak']:.3f} at t* {ref_d['secondary_time']:.3f}. Variants:", ""]
+    lines += [f"* `{k}` -- {res[k].get('change', VARIANTS.get(k, ('', ''))[1])}" for k in
+              [k for k in VARIANTS if k in res] + [k for k in res if k not in VARIANTS]]
+    lines += ["",
              "| variant | read-out | arrival t* (±0.1) | first peak p* (±20 %) | plateau p* (±10 %) | "
              "secondary p* | secondary t* (±0.15) | noise / rho g H (<= 0.10) | run [s] |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -195,6 +201,14 @@ def table(n, readout_rows=("point", "point-avg")):
                          f"{fmt(f['secondary_peak'], ref_d['secondary_peak'], True)} | "
                          f"{fmt(f['secondary_time'], ref_d['secondary_time'])} | {fmt(f['noise'])} | "
                          f"{info['wall_time_s']:.0f} |")
+    names = [k for k in VARIANTS if k in res] + [k for k in res if k not in VARIANTS]
+    readout_names = list(res[names[0]]["readouts"]) if names else []
+    lines += ["", "Noise / (rho g H) of every read-out:", "",
+              "| variant | steps | " + " | ".join(readout_names) + " |",
+              "| --- | --- | " + " | ".join("---" for _ in readout_names) + " |"]
+    for name in names:
+        r = res[name]["readouts"]
+        lines.append(f"| {name} | {res[name]['steps']} | " + " | ".join(fmt(r[k]["noise"]) for k in readout_names) + " |")
     return "\n".join(lines)
 
 
