@@ -202,7 +202,8 @@ def running_mean(t, p, width):
 def interval_mean(t, p, every):
     """Time-weighted mean of a step-sampled series over consecutive intervals of ``every`` seconds.
 
-    A sample at t_k stands for the step (t_{k-1}, t_k]; each interval
+    A sample at t_k stands for the step (t_{k-1}, t_k] (the first for a step as long as the
+    second sample's); each interval
     [k every, (k + 1) every) reports the mean of the samples whose step ends in it,
     weighted by their step length, at its end time. Returns (times, means) of the
     non-empty intervals. This is a box filter of width ``every``: a transducer
