@@ -100,7 +100,8 @@ def run(ctx, n=50):
     fig.tight_layout()
     fig.savefig(ctx.plot_path("dam_break" if n == 50 or ctx.quick else f"dam_break_h{n}"))
     plt.close(fig)
-    extra = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in SETTINGS.items())
+    extra = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in SETTINGS.items()
+                      if k != "c0")
     return {"rows": rows,
             "settings": f"case dam-break, H = 0.6 m, boundary adami (free slip), dx = H/{H / dx:.0f} "
                         f"({sim.fluid.n} fluid particles), c0 = {sim.physics.c0:.3g} m/s"
