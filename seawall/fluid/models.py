@@ -128,7 +128,10 @@ class RiemannSolver:
     It replaces artificial viscosity and density diffusion; the fluid refuses
     both together with it. Dummy-particle walls (``seawall.boundary.dummy``)
     apply the same pair terms with the wall particle's pressure, density and
-    own velocity as the right state.
+    own velocity as the right state, and the mirrored normal velocity jump
+    -2 (v_i - v_b) . n_b in the limiter (free slip is not dissipated). Every
+    other wall model keeps its central wall terms with a Riemann fluid
+    (not measured; the dam-break study, docs/validation-notes.md, used Adami walls).
 
     Parameters
     ----------
