@@ -18,7 +18,16 @@
 * :func:`pressure_noise` -- the high-frequency part of a pressure series: the
   RMS of p minus its centred running mean over ``window`` seconds (the same
   definition as the ``pressure_noise`` metric of ``seawall compare``).
+* :func:`running_mean`, :func:`interval_mean` -- smoothing of a probe series:
+  a centred running mean, and the mean over consecutive output intervals of a
+  series sampled every step (what a transducer of finite bandwidth reports).
+* :func:`impact_features` -- arrival, first peak, plateau, secondary peak (value
+  and time) and the pre-impact level of a dimensionless wall-pressure history
+  p/(rho g H) against t sqrt(g/H): the features the Buchner (2002) dam-break
+  validation compares (seawall validate dam-break).
 """
+
+import math
 
 import numpy as np
 from numba import njit, prange
@@ -172,3 +181,82 @@ def pressure_noise(times, p, window=0.05):
     d = p[core] - running[core]
     d = d[np.isfinite(d)]
     return float(np.sqrt(np.mean(d * d))) if d.size else None
+
+
+def running_mean(t, p, width):
+    """Centred running mean of ``p`` over ``width`` (units of ``t``); samples assumed evenly spaced.
+
+    The window spans round(width / median dt) samples, made odd; the ends use
+    the zero-padded convolution (the mean is biased over the first and last
+    half window).
+    """
+    t = np.asarray(t, dtype=float)
+    p = np.asarray(p, dtype=float)
+    dt = float(np.median(np.diff(t)))
+    n = max(1, int(round(width / dt)) | 1)
+    if n <= 1 or p.size <= n:
+        return p.copy()
+    return np.convolve(p, np.ones(n) / n, mode="same")
+
+
+def interval_mean(t, p, every):
+    """Time-weighted mean of a step-sampled series over consecutive intervals of ``every`` seconds.
+
+    A sample at t_k stands for the step (t_{k-1}, t_k] (the first for a step as long as the
+    second sample's); each interval
+    [k every, (k + 1) every) reports the mean of the samples whose step ends in it,
+    weighted by their step length, at its end time. Returns (times, means) of the
+    non-empty intervals. This is a box filter of width ``every``: a transducer
+    read out at 1/every whose response averages over its sampling interval
+    (first zero of the transfer function at 1/every Hz, -3 dB at about 0.44/every).
+    """
+    t = np.asarray(t, dtype=float)
+    p = np.asarray(p, dtype=float)
+    if t.size < 2:
+        return t.copy(), p.copy()
+    w = np.diff(t, prepend=t[0] - (t[1] - t[0]))
+    k = np.floor(t / every - 1e-9).astype(np.int64)
+    kk, first = np.unique(k, return_index=True)
+    sw = np.add.reduceat(w, first)
+    sp = np.add.reduceat(w * p, first)
+    return (kk + 1) * every, sp / sw
+
+
+#: names of :func:`impact_features`' values, in order
+IMPACT_FEATURES = ("arrival", "first_peak", "plateau", "secondary_peak", "pre_impact", "secondary_time")
+
+
+def impact_features(t, p):
+    """Features of a wall-pressure history p* = p/(rho g H) against t* = t sqrt(g/H) (dam break, sensor P1).
+
+    Returns a tuple in the order of :data:`IMPACT_FEATURES`:
+
+    * arrival: first t* > 2 where p* reaches 0.2;
+    * first (impact) peak: largest p* over 2.3 < t* < 3.3;
+    * plateau: mean p* over 3.5 < t* < 5.2 (linear interpolation on 200 points);
+    * secondary (returning plunging wave) peak: largest p* over 5.4 < t* < 6.4;
+    * pre-impact: largest |p*| over 0.5 < t* < 2.3 (the sensor is dry);
+    * secondary-peak time: the t* of that largest p*.
+
+    NaN for a feature whose window the series does not cover. ``t`` must be sorted.
+    """
+    t = np.asarray(t, dtype=float)
+    p = np.asarray(p, dtype=float)
+
+    def window(a, b):
+        return (t > a) & (t < b)
+
+    def peak(a, b):
+        m = window(a, b)
+        if not m.any() or t[-1] < b:
+            return math.nan, math.nan
+        k = int(np.argmax(np.where(m, p, -np.inf)))
+        return float(p[k]), float(t[k])
+    after = (t > 2.0) & (p >= 0.2)
+    arrival = float(t[np.argmax(after)]) if after.any() else math.nan
+    grid = np.linspace(3.5, 5.2, 200)
+    plateau = float(np.mean(np.interp(grid, t, p))) if t[-1] >= 5.2 else math.nan
+    pre = p[window(0.5, 2.3)]
+    first, _ = peak(2.3, 3.3)
+    second, second_t = peak(5.4, 6.4)
+    return (arrival, first, plateau, second, float(np.abs(pre).max()) if pre.size else math.nan, second_t)

@@ -336,7 +336,9 @@ class Simulation(Runner):
             tensile=1 if fluid.tensile_correction else 0,
             inv_w_dx=1.0 / w_dx if w_dx > 0 else 0.0, xsph=fluid.xsph,
             gx=float(g[0]), gy=float(g[1]), gz=float(g[2]),
-            alpha_all_pairs=1 if getattr(av, "all_pairs", False) else 0)
+            alpha_all_pairs=1 if getattr(av, "all_pairs", False) else 0,
+            riemann=1 if getattr(fluid, "riemann", None) is not None else 0,
+            riemann_eta=fluid.riemann.eta if getattr(fluid, "riemann", None) is not None else 3.0)
 
     def _make_grid(self, domain, periodic):
         support = self.kernel.support(self.h)

@@ -44,7 +44,9 @@ from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
-from ..pairs import continuity, gradient_factor, laminar_viscosity, pressure_acceleration
+from ..pairs import (continuity, gradient_factor, laminar_viscosity, pressure_acceleration, riemann_continuity,
+                     riemann_fluid_jump, riemann_momentum_coefficient, riemann_pressure,
+                     riemann_wall_jump)
 from ..views import cell_view, fluid_view, wall_view
 from .base import WallModel, noslip_viscosity, rates_bundle
 
@@ -191,6 +193,11 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
                  (Adami et al. 2012, eq. 24 form; [Li2022] eq. 8 with b a wall particle)
     momentum:    dv_i -= m_b (p_i/rho_i^2 + p_b/rho_b^2) grad_i W_ib    ([Li2022] eq. 5)
                  with p_b = p_i, rho_b = rho0 when ``mirror`` ([TrixiBoundary], PressureMirroring)
+    Riemann fluid (``prm.riemann``, [Zhang2017] sec. 3): both terms through the pair Riemann problem
+                 with the wall particle's p_b, rho_b and own velocity v_b as the right state
+                 (seawall.pairs.riemann_*; V_b = m_b / rho_b); the limiter's velocity jump is the
+                 mirrored normal one, -2 (v_i - v_b) . n_b (riemann_wall_jump), so free slip stays free
+                 (a wall without normals: the jump along the line of centres)
     no slip:     dv_i += m_b nu (rho_i + rho_b)/(rho_i rho_b) (v_i - v_w) (r_ib . grad W)/(r^2 + eta^2)
                  when wall_nu > 0 ([Liu2015] eq. 9 form with the Adami wall velocity v_w = wall.v_visc)
 
@@ -207,6 +214,9 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     rhow = wall.rho
     pw = wall.p
     mw = wall.m
+    normals = wall.normal
+    # the mirrored normal jump needs the wall's normals; a wall without them uses the line of centres
+    has_normals = normals.shape[0] == xw.shape[0]
     start = cells.start
     order = cells.order
     reach = cells.reach
@@ -223,6 +233,8 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
+    riemann = prm.riemann != 0
+    rho0c0 = prm.rho0 * prm.c0
     for i in prange(nf):
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -245,13 +257,25 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
                     f = gradient_factor(prm.kernel, gradient_scale, r * inv_h)
                     mb = mw[b]
                     vb0, vb1, vb2 = point_of(vw, b, dim)
-                    dr += continuity(mb, (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2, f)
+                    vrb = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
                     if mirror:
-                        coef = pr_i + pf[i] / (prm.rho0 * prm.rho0)
+                        pb = pf[i]
                         rhob = prm.rho0
                     else:
+                        pb = pw[b]
                         rhob = rhow[b]
-                        coef = pr_i + pw[b] / (rhob * rhob)
+                    if riemann:
+                        dr += riemann_continuity(rhoi, mb / rhob, vrb, pf[i], pb, r, rho0c0, f)
+                        if has_normals:
+                            n0, n1, n2 = point_of(normals, b, dim)
+                            du = riemann_wall_jump((vi0 - vb0) * n0 + (vi1 - vb1) * n1 + (vi2 - vb2) * n2)
+                        else:
+                            du = riemann_fluid_jump(vrb, r)
+                        coef = riemann_momentum_coefficient(
+                            riemann_pressure(pf[i], pb, du, rho0c0, prm.c0, prm.riemann_eta), rhoi, rhob)
+                    else:
+                        dr += continuity(mb, vrb, f)
+                        coef = pr_i + pb / (rhob * rhob)
                     s = pressure_acceleration(mb, coef, f)
                     a0 += s * d0
                     a1 += s * d1

@@ -16,7 +16,7 @@ from .. import probes, shapes
 from ..boundary.base import WallSystem
 from ..eos import Tait
 from ..errors import ParameterError, require_positive
-from ..fluid import ArtificialViscosity, DeltaSPH, FluidSystem
+from ..fluid import ArtificialViscosity, DeltaSPH, FluidSystem, MolteniColagrossi, RiemannSolver
 from ..integrators import Symplectic
 from ..fluid.presets import marrone2011
 from ..kernels import CubicSpline
@@ -70,13 +70,39 @@ def dam_break_pressure(x, y, L, H, *, rho0=RHO0, c0, g=GRAVITY, n_terms=400):
     return p
 
 
-def _fluid(block, params, *, c0, pressure=None):
+#: density-diffusion variants of the standard scheme (case parameter ``diffusion``)
+DIFFUSIONS = ("renormalised", "molteni")
+
+
+def _diffusion(params):
+    """The density-diffusion model: delta-SPH with the renormalised gradient (Antuono et al. 2010) or the
+    plain Molteni & Colagrossi (2009) term; None when delta = 0."""
     delta = params["delta"]
+    kind = params.get("diffusion", "renormalised")
+    if kind not in DIFFUSIONS:
+        raise ParameterError(f"diffusion must be one of {', '.join(DIFFUSIONS)}; got {kind!r}")
+    if delta <= 0:
+        return None
+    if kind == "molteni":
+        return MolteniColagrossi(delta=delta)
+    return DeltaSPH(delta=delta, lagged_gradient=params["lagged_gradient"])
+
+
+def _riemann(params):
+    """The Riemann formulation ([Zhang2017]) when the case parameter ``riemann`` is set, else None."""
+    if not params.get("riemann", False):
+        return None
+    if params["alpha"] > 0 or params["delta"] > 0:
+        raise ParameterError(f"riemann=true replaces the artificial viscosity and the density diffusion: set "
+                             f"alpha=0 and delta=0 (got alpha={params['alpha']:g}, delta={params['delta']:g})")
+    return RiemannSolver(eta=params.get("riemann_eta", 3.0))
+
+
+def _fluid(block, params, *, c0, pressure=None):
     return FluidSystem(block, rho0=params["rho0"], eos=Tait(c0=c0, gamma=7.0),
                        viscosity=ArtificialViscosity(alpha=params["alpha"]) if params["alpha"] > 0 else None,
-                       density_diffusion=DeltaSPH(delta=delta, lagged_gradient=params["lagged_gradient"])
-                       if delta > 0 else None,
-                       pressure=pressure)
+                       density_diffusion=_diffusion(params),
+                       pressure=pressure, riemann=_riemann(params))
 
 
 def _hydrostatic(depth, rho0, dim):
@@ -112,6 +138,13 @@ COMMON = {
     "cfl": Parameter(0.2, "CFL number"),
     "rho0": Parameter(RHO0, "reference density [kg/m^3]"),
     "lagged_gradient": Parameter(True, "delta-SPH gradient from the previous evaluation (one pass); false = two passes", bool),
+}
+
+#: the Riemann formulation of the standard scheme (hydrostatic tank and 2D dam break)
+RIEMANN_PARAMETERS = {
+    "riemann": Parameter(False, "Riemann formulation of continuity and momentum with the low-dissipation "
+                         "limiter ([Zhang2017]; needs alpha=0, delta=0)", bool),
+    "riemann_eta": Parameter(3.0, "limiter coefficient eta of the Riemann formulation ([Zhang2017]: 3)"),
 }
 
 #: parameters of the cases that can run [Huang2019]'s settings
@@ -156,7 +189,7 @@ HYDROSTATIC = Case(
     name="hydrostatic",
     description="still water 0.3 m deep in a 1 m tank, wall pressure probes P0-P3 ([Huang2019] sec. 4.1)",
     builder=build_hydrostatic,
-    parameters={**COMMON, **SEED001,
+    parameters={**COMMON, **SEED001, **RIEMANN_PARAMETERS,
                 "depth": Parameter(0.3, "water depth [m]"),
                 "length": Parameter(1.0, "tank length [m]"),
                 "height": Parameter(0.4, "tank wall height [m]"),
@@ -227,6 +260,10 @@ DAM_BREAK = Case(
     builder=build_dam_break,
     parameters={**COMMON, **SEED001, **TANK_PARAMETERS,
                 "H": Parameter(0.3, "column height [m] (0.3 ETSIN, 0.6 Buchner)"),
+                "diffusion": Parameter("renormalised", "density diffusion of the standard scheme: renormalised "
+                                       "(delta-SPH, Antuono et al. 2010) or molteni (Molteni & Colagrossi 2009)",
+                                       str),
+                **RIEMANN_PARAMETERS,
                 "initial": Parameter("rest", "initial pressure: rest (p = 0) or analytic ([Huang2019] sec. 4.2, "
                                      "Laplace-problem series)", str)},
     t_end=1.5, probe_every=5e-4, output_every=0.02)

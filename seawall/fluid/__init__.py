@@ -1,7 +1,8 @@
 """The weakly compressible fluid system and its constitutive models."""
 
-from .models import ArtificialViscosity, DeltaSPH, LaminarViscosity, MolteniColagrossi
+from .models import ArtificialViscosity, DeltaSPH, LaminarViscosity, MolteniColagrossi, RiemannSolver
 from .regularisation import ParticleShifting, TransportVelocity
 from .system import FluidSystem
 
-__all__ = ["FluidSystem", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH", "ParticleShifting", "TransportVelocity"]
+__all__ = ["FluidSystem", "ArtificialViscosity", "LaminarViscosity", "MolteniColagrossi", "DeltaSPH", "RiemannSolver",
+           "ParticleShifting", "TransportVelocity"]

@@ -110,3 +110,37 @@ class DeltaSPH(MolteniColagrossi):
 
     def __repr__(self):
         return f"DeltaSPH(delta={self.delta}, lagged_gradient={self.lagged_gradient})"
+
+
+class RiemannSolver:
+    """Riemann formulation of the fluid's continuity and momentum pair terms ([Zhang2017] sec. 3).
+
+    Each pair i-j is a one-dimensional Riemann problem along the line of
+    centres, solved by the linearised (acoustic) solver: interface velocity
+    U* and pressure P* replace the central averages,
+
+        drho_i/dt = 2 rho_i sum_j V_j (v_i - v*) . grad_i W_ij,
+        dv_i/dt   = -sum_j 2 m_j P* / (rho_i rho_j) grad_i W_ij,
+
+    with P* dissipative only for approaching pairs through the low-dissipation
+    limiter beta = min(eta max(U_L - U_R, 0) / c0, 1) (functions
+    :func:`seawall.pairs.riemann_pressure`, :func:`seawall.pairs.riemann_continuity`).
+    It replaces artificial viscosity and density diffusion; the fluid refuses
+    both together with it. Dummy-particle walls (``seawall.boundary.dummy``)
+    apply the same pair terms with the wall particle's pressure, density and
+    own velocity as the right state, and the mirrored normal velocity jump
+    -2 (v_i - v_b) . n_b in the limiter (free slip is not dissipated). Every
+    other wall model keeps its central wall terms with a Riemann fluid
+    (not measured; the dam-break study, docs/validation-notes.md, used Adami walls).
+
+    Parameters
+    ----------
+    eta : float
+        Limiter coefficient, 3 in [Zhang2017]; larger = more dissipation.
+    """
+
+    def __init__(self, *, eta=3.0):
+        self.eta = require_positive("eta", eta)
+
+    def __repr__(self):
+        return f"RiemannSolver(eta={self.eta})"

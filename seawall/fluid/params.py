@@ -41,3 +41,7 @@ class Physics(NamedTuple):
     # approaching pairs v_ij . r_ij < 0 (0, Monaghan 1992 / [Li2022] eq. 6); last with a default so
     # that every existing construction keeps Monaghan's switch
     alpha_all_pairs: int = 0
+    # Riemann formulation of the continuity and momentum pair terms ([Zhang2017]; 0 = the central terms)
+    # and the eta of its low-dissipation limiter
+    riemann: int = 0
+    riemann_eta: float = 3.0

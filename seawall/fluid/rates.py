@@ -22,6 +22,10 @@ the loops run in parallel with ``prange``. Formulas and their sources:
 * tensile correction: f_ten = (R_i + R_j) (W_ij / W(dx))^4, R_k = eps p_k / rho_k^2,
   eps = 0.01 for p_k > 0 and -0.2 otherwise                         ([Li2022], eq. 20;
   the extracted text lost the square of rho_k, restored from Monaghan 2000)
+* Riemann formulation (``prm.riemann``, [Zhang2017] sec. 3): the continuity and pressure terms
+  above are replaced by drho_i/dt = 2 rho_i sum_j V_j (v_i - v*) . grad_i W_ij and
+  dv_i/dt = -sum_j 2 m_j P*/(rho_i rho_j) grad_i W_ij, v* and P* of the linearised pair
+  Riemann problem with the low-dissipation limiter (seawall.pairs.riemann_*)
 * XSPH: dx_i/dt = v_i + eps sum_j (m_j / rho_ij) (v_j - v_i) W_ij   ([Li2022], eq. 10;
   the extracted text lost the sign of v_ij, restored from Monaghan 1989)
 """
@@ -32,8 +36,8 @@ from numba import njit, prange
 from ..eos import eos_pressure, eos_sound_speed
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..pairs import (continuity, density_diffusion, gradient_factor, kernel_value, laminar_viscosity,
-                     monaghan_viscosity, pressure_acceleration, tensile_coefficient, tensile_term, viscosity_acts,
-                     xsph_weight)
+                     monaghan_viscosity, pressure_acceleration, riemann_continuity, riemann_fluid_jump,
+                     riemann_momentum_coefficient, riemann_pressure, tensile_coefficient, tensile_term, viscosity_acts, xsph_weight)
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
@@ -215,6 +219,8 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next):
     diff_coef = prm.delta * h * prm.c0
     tensile = prm.tensile
     use_xsph = prm.xsph > 0.0
+    riemann = prm.riemann != 0
+    rho0c0 = prm.rho0 * prm.c0
     for i in prange(n):
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -258,8 +264,13 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next):
                     u1 = vi1 - vj1
                     u2 = vi2 - vj2
                     vr = u0 * d0 + u1 * d1 + u2 * d2
-                    dr += continuity(mj, vr, f)
-                    coef = pr_i + p_over_rho2[j]
+                    if riemann:
+                        dr += riemann_continuity(rhoi, volume[j], vr, pi, p[j], r, rho0c0, f)
+                        coef = riemann_momentum_coefficient(
+                            riemann_pressure(pi, p[j], riemann_fluid_jump(vr, r), rho0c0, prm.c0, prm.riemann_eta), rhoi, rhoj)
+                    else:
+                        dr += continuity(mj, vr, f)
+                        coef = pr_i + p_over_rho2[j]
                     if tensile:
                         rj = tensile_coefficient(p[j], rhoj)
                         coef += tensile_term(ri, rj, kernel_value(prm.kernel, prm.sigma, qq) * prm.inv_w_dx)

@@ -5,7 +5,7 @@ import numpy as np
 from ..eos import EquationOfState
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..particles import ParticleArrays, initial_velocity
-from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi
+from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi, RiemannSolver
 from .regularisation import as_shifting, as_transport_velocity
 
 DENSITY_MODES = ("continuity", "summation")
@@ -34,6 +34,9 @@ class FluidSystem:
         Monaghan (2000) tensile correction, [Li2022] eq. 20 (default off).
     xsph : float
         XSPH epsilon of [Li2022] eq. 10 (0 = off, the seed uses 0.5).
+    riemann : RiemannSolver, optional
+        Riemann formulation of the continuity and momentum terms ([Zhang2017]);
+        default None (central terms). Excludes artificial viscosity and density diffusion.
     velocity : array-like, optional
         Initial velocity, a constant vector or an (N, d) array [m/s].
     pressure : callable or array, optional
@@ -53,7 +56,7 @@ class FluidSystem:
     def __init__(self, shape, *, rho0=1000.0, eos=None, viscosity="default",
                  density_diffusion=None, density="continuity", tensile_correction=False,
                  xsph=0.0, velocity=None, pressure=None, shifting=None, transport_velocity=None,
-                 name="fluid"):
+                 name="fluid", riemann=None):
         x = np.ascontiguousarray(getattr(shape, "positions", None), dtype=np.float64)
         if x.ndim != 2 or x.shape[1] not in (2, 3) or x.shape[0] == 0:
             raise ParameterError(f"fluid positions must be an (N, 2) or (N, 3) array with N > 0, got {x.shape}")
@@ -81,6 +84,16 @@ class FluidSystem:
         if density_diffusion is not None and not isinstance(density_diffusion, MolteniColagrossi):
             raise ParameterError(f"density_diffusion must be MolteniColagrossi, DeltaSPH or None; got {density_diffusion!r}")
         self.density_diffusion = density_diffusion
+        if riemann is not None:
+            if not isinstance(riemann, RiemannSolver):
+                raise ParameterError(f"riemann must be RiemannSolver or None; got {riemann!r}")
+            if self.artificial_viscosity is not None and self.artificial_viscosity.alpha > 0:
+                raise ParameterError("riemann: the Riemann formulation replaces the artificial viscosity; "
+                                     "pass viscosity=None (or a LaminarViscosity)")
+            if density_diffusion is not None and density_diffusion.delta > 0:
+                raise ParameterError("riemann: the Riemann formulation replaces density diffusion; "
+                                     "pass density_diffusion=None")
+        self.riemann = riemann
         if density not in DENSITY_MODES:
             raise ParameterError(f"density must be one of {', '.join(DENSITY_MODES)}; got {density!r}")
         self.density_mode = density

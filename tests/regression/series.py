@@ -72,12 +72,12 @@ class Series:
 #: still water in a small tank, released from rest (p = 0): a pressure wave settles against every wall
 HYDROSTATIC = dict(dx=0.0125, h_factor=1.3, c0=22.0, alpha=0.02, delta=0.1, cfl=0.2, rho0=1000.0,
                    lagged_gradient=True, scheme="standard", dt=0.0,
-                   depth=0.25, length=0.5, height=0.3, initial="rest")
+                   depth=0.25, length=0.5, height=0.3, initial="rest", riemann=False, riemann_eta=3.0)
 HYDROSTATIC_T = 0.045        # ~300 steps with dt = 0.2 h / c0
 #: a small dam break (column 0.1 x 0.05 m in a tank 5.366 H x 2 H): the column slumps along the floor
 DAM_BREAK = dict(dx=0.0025, h_factor=1.3, c0=10.0, alpha=0.02, delta=0.1, cfl=0.2, rho0=1000.0,
                  lagged_gradient=True, scheme="standard", dt=0.0, H=0.05, initial="rest",
-                 tank_height=2.0, lid=False)
+                 tank_height=2.0, lid=False, diffusion="renormalised", riemann=False, riemann_eta=3.0)
 DAM_BREAK_T = 0.02           # ~300 steps
 #: the lid-driven cavity at Re = 100, 25 x 25 particles
 CAVITY = dict(dx=4e-5, side=1e-3, lid_speed=1e-3, reynolds=100.0, h_factor=1.2, rho0=1000.0, c0=0.01,
