@@ -38,16 +38,60 @@ AXES = "xyz"
 REASONS = ("domain", "wall", "unstable")
 
 
+@njit(cache=True)
+def nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2):
+    """Index of the wall particle nearest to the point (p0, p1, p2) within sqrt(radius2), else -1.
+
+    The search visits the 5^d cells around the point's cell (cells at least
+    radius / 2 wide). ``reach`` (uint8 per cell, ``CellList.reach_mask``)
+    marks the cells with a wall particle in their 5^d neighbourhood; a point
+    elsewhere returns -1 without a search, which keeps the cost to the fluid
+    near walls.
+    """
+    c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+    c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+    c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+    if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
+        return -1
+    best = radius2
+    b_best = -1
+    zr = 2 if dim == 3 else 0
+    for oz in range(-zr, zr + 1):
+        cz = c2 + oz
+        if cz < 0 or cz >= ncell[2]:
+            continue
+        for oy in range(-2, 3):
+            cy = c1 + oy
+            if cy < 0 or cy >= ncell[1]:
+                continue
+            for ox in range(-2, 3):
+                cx = c0 + ox
+                if cx < 0 or cx >= ncell[0]:
+                    continue
+                cell = cx + ncell[0] * (cy + ncell[1] * cz)
+                for kk in range(start[cell], start[cell + 1]):
+                    b = order[kk]
+                    d0 = p0 - xw[b, 0]
+                    d1 = p1 - xw[b, 1]
+                    r2 = d0 * d0 + d1 * d1
+                    if dim == 3:
+                        d2 = p2 - xw[b, 2]
+                        r2 += d2 * d2
+                    if r2 < best:
+                        best = r2
+                        b_best = b
+    return b_best
+
+
 @njit(cache=True, parallel=True)
 def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2, out):
     """Per fluid particle: (x - s_b) . n_b for its nearest wall particle b within the radius, else +inf.
 
     s_b is the wall particle's closest surface point and n_b its unit normal
     into the fluid (``seawall.shapes``), so the value is the distance from
-    the wall surface, negative inside the wall. ``reach`` (uint8 per cell,
-    ``CellList.reach_mask``) marks the cells with a wall particle in their
-    5^d neighbourhood; particles elsewhere get +inf without a search (they
-    would find nothing), which keeps the cost to the fluid near walls.
+    the wall surface, negative inside the wall. The nearest particle comes
+    from :func:`nearest_wall_particle` (particles away from every wall get
+    +inf without a search).
     """
     from_dim = xf.shape[1]
     for i in prange(xf.shape[0]):
@@ -55,39 +99,7 @@ def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncel
         p0 = xf[i, 0]
         p1 = xf[i, 1]
         p2 = xf[i, 2] if from_dim == 3 else 0.0
-        c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
-        c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
-        c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
-        if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
-            out[i] = np.inf
-            continue
-        best = radius2
-        b_best = -1
-        zr = 2 if from_dim == 3 else 0
-        for oz in range(-zr, zr + 1):
-            cz = c2 + oz
-            if cz < 0 or cz >= ncell[2]:
-                continue
-            for oy in range(-2, 3):
-                cy = c1 + oy
-                if cy < 0 or cy >= ncell[1]:
-                    continue
-                for ox in range(-2, 3):
-                    cx = c0 + ox
-                    if cx < 0 or cx >= ncell[0]:
-                        continue
-                    cell = cx + ncell[0] * (cy + ncell[1] * cz)
-                    for kk in range(start[cell], start[cell + 1]):
-                        b = order[kk]
-                        d0 = p0 - xw[b, 0]
-                        d1 = p1 - xw[b, 1]
-                        r2 = d0 * d0 + d1 * d1
-                        if from_dim == 3:
-                            d2 = p2 - xw[b, 2]
-                            r2 += d2 * d2
-                        if r2 < best:
-                            best = r2
-                            b_best = b
+        b_best = nearest_wall_particle(p0, p1, p2, from_dim, xw, start, order, reach, lo, inv_cell, ncell, radius2)
         if b_best < 0:
             out[i] = np.inf
         else:

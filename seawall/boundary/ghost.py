@@ -52,6 +52,7 @@ import os
 import numpy as np
 from numba import njit, prange
 
+from ..diagnostics import nearest_wall_particle
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
@@ -212,39 +213,9 @@ def reflect_crossed(xf, vf, xw, nw, sw, vw, start, order, reach, lo, inv_cell, n
     dim = xf.shape[1]
     for i in prange(xf.shape[0]):
         hit[i] = 0
-        p0 = xf[i, 0]
-        p1 = xf[i, 1]
         p2 = xf[i, 2] if dim == 3 else 0.0
-        c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
-        c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
-        c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
-        if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
-            continue
-        best = radius2
-        b_best = -1
-        zr = 2 if dim == 3 else 0
-        for oz in range(-zr, zr + 1):
-            cz = c2 + oz
-            if cz < 0 or cz >= ncell[2]:
-                continue
-            for oy in range(-2, 3):
-                cy = c1 + oy
-                if cy < 0 or cy >= ncell[1]:
-                    continue
-                for ox in range(-2, 3):
-                    cx = c0 + ox
-                    if cx < 0 or cx >= ncell[0]:
-                        continue
-                    cell = cx + ncell[0] * (cy + ncell[1] * cz)
-                    for kk in range(start[cell], start[cell + 1]):
-                        b = order[kk]
-                        r2 = 0.0
-                        for k in range(dim):
-                            d = xf[i, k] - xw[b, k]
-                            r2 += d * d
-                        if r2 < best:
-                            best = r2
-                            b_best = b
+        b_best = nearest_wall_particle(xf[i, 0], xf[i, 1], p2, dim, xw, start, order, reach, lo, inv_cell, ncell,
+                                       radius2)
         if b_best < 0:
             continue
         s = 0.0

@@ -18,8 +18,14 @@ absolute difference divided by the largest magnitude of the stored array
 blown up. Measured between a run with 1 thread and the stored data (2 threads):
 0.0 for 41 of the 42 series, 6.1e-14 for ``cavity-liu2015`` (in ``v``; one loop
 on the liu2015 fluid's path is not bitwise independent of the thread count).
-The test tolerance ``RTOL`` leaves room for that and for sums reordered by
-fastmath after a refactor; a changed formula moves the series far more.
+The same code also moves by round-off with the state of Numba's compiled code:
+cold compile against cached machine code, and one series run alone against the
+same series after the others in one process (the dispatcher then reuses
+specialisations compiled for other argument types), measured up to 2.4e-12
+(``hydrostatic-mdbc-noslip``, probe P3; ``dam-break-ghost-mls2`` 1.6e-12 in the
+full sequence, 0.0 alone). The test tolerance ``RTOL`` is 4x that spread: room
+for it and for sums reordered by fastmath after a refactor; a changed formula
+moves a series by orders of magnitude more.
 
 Regenerating, after a deliberate change of the physics::
 
@@ -38,8 +44,8 @@ import numpy as np
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 
-#: test tolerance on the scaled deviation (module docstring); 1 vs 2 threads measured <= 6.1e-14
-RTOL = 1e-12
+#: test tolerance on the scaled deviation (module docstring); measured reproduction spread <= 2.4e-12
+RTOL = 1e-11
 
 #: keep every STRIDE-th particle (by id) of the final state
 STRIDE = 2

@@ -46,8 +46,9 @@ def test_boundaries_lists_every_model_with_its_options(capsys):
     assert blocks["adami-noslip"][0] == "--set: slip=noslip wall_nu=(model) clip_negative=(model)"
     assert "density='summation'" in blocks["summation"][1] and "clip_negative_pressure=True" in blocks["summation"][1]
     assert blocks["idbc"][1].startswith("options: ImprovedDynamicBoundary(order=7, rectangular=True,")
-    assert blocks["ghost-mls2"][1] == "options: GhostParticles(interpolation=MLS(order=2, limit=True), slip='free')"
-    assert blocks["liu2012"] == ["--set: beta=2.0", "options: Liu2012Force(beta=2.0, c=None)"]
+    assert blocks["ghost-mls2"][1] == ("options: GhostParticles(interpolation=MLS(order=2, limit=True), slip='free', "
+                                        "reflect=False)")
+    assert blocks["liu2012"] == ["--set: beta=2.0 c=(model)", "options: Liu2012Force(beta=2.0, c=None)"]
 
 
 def test_run_writes_contract_files(tmp_path, capsys):

@@ -22,8 +22,14 @@ def test_every_case_folder_has_entries_with_their_stored_result_and_figures():
                             "taylor-green", "elliptical-drop", "cavity"}
     assert {os.path.basename(e.folder) for e in registry.values()} == set(folders)
     stored = load_results(None, registry)
-    assert set(stored) == set(registry)
+    assert set(stored) <= set(registry)
+    doc = open(os.path.join(ROOT, "docs", "validation.md")).read()
+    for name in set(registry) - set(stored):
+        # an entry not run yet (a long one) says so in the summary table, never a number
+        assert f"| {name} | | | | | | | | not run |" in doc, name
     for name, entry in registry.items():
+        if name not in stored:
+            continue
         assert os.path.isfile(os.path.join(entry.folder, "results", f"{name}.json"))
         for plot in stored[name]["plots"]:
             # figures live in the entry's own folder and exist
@@ -54,7 +60,7 @@ def test_old_module_names_still_import():
     import seawall.validation.entries.dam_break as dam_break
     from seawall.validation.entries import solitary_runup
 
-    assert dam_break.ENTRY is all_entries()["dam-break"]
+    assert dam_break.ENTRIES[0] is all_entries()["dam-break"]
     assert os.path.dirname(solitary_runup.__file__) == os.path.join(ROOT, "validation", "solitary-runup")
     assert callable(seawall.plots_idbc.main) and callable(seawall.plots_idbc.sweep)
 
