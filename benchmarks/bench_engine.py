@@ -1,75 +1,204 @@
-"""Speed of the core engine: particle-steps per second of the 2D and 3D dam breaks.
+"""Speed of the core engine against a plain compiled WCSPH step, measured side by side.
 
-Runs ``seawall bench`` in a fresh process per configuration (so the thread
-count is set before numba starts) at about 20k, 80k and 320k particles in 2D
-and one 3D size, with 1 and 2 threads, and prints a table plus one JSON line
-per run. Compilation is excluded from the timing (reported separately).
+The yardstick is the plain step of issue 19 (``plain_step.py``: cell list, continuity,
+momentum, Tait, artificial viscosity; no walls, no delta-SPH), run in the same session
+as seawall and interleaved with it, because the project's machines are shared and
+their speed drifts by 2x within minutes: only ratios measured side by side mean
+anything. Every configuration runs in a fresh process (``seawall bench``), so the
+thread count is set before Numba starts; compilation is excluded from the timing.
 
-    python benchmarks/bench_engine.py            # the full set (about 3 minutes on 2 cores)
-    python benchmarks/bench_engine.py --quick    # 20k and 80k, 2 threads
+    python benchmarks/bench_engine.py                       # side by side + wall models + start-up
+    python benchmarks/bench_engine.py --only side-by-side --rounds 3
+    python benchmarks/bench_engine.py --write-doc           # also rewrite docs/performance.md's tables
 
-Targets (issue 2; 2-core machine, float64, 2 threads): >= 2.5 M particle-steps/s
-for the 2D dam break at 80k particles; time per step from 80k to 320k growing
-at most 4.4 times.
+Parts:
+
+* ``side-by-side``: per round, the plain step (100k and 400k particles) then seawall's 2D dam
+  break with Adami walls and delta-SPH (80k and 320k), 2 threads; the ratio of particle-steps
+  per second within each round, median over the rounds (targets of issue 19: >= 1.0 at 80k
+  and 320k; time per step 80k -> 320k at most 4.2x). The plain step runs with the same
+  ``OMP_WAIT_POLICY=PASSIVE`` seawall sets on import (without it, on a loaded machine its
+  spinning threads lose 2-5x and the ratio flatters seawall).
+* ``models``: every registered wall model on the same dam break, 1 thread, CPU time per step
+  (steadier than wall time under load) over ``adami``'s measured in the same round; median
+  over the rounds (target: at most 1.25).
+* ``startup``: the default ``seawall bench dam-break`` with an empty Numba cache (a fresh
+  ``NUMBA_CACHE_DIR``) and again with the cache it filled: seconds to compile and take the
+  first two steps (target 3 of issue 19 for compilation: at most 15 s).
+
+The machine (CPU, cores, load), the commit and Numba's version are printed and written
+with the tables.
 """
 
 import argparse
 import json
+import os
+import platform
+import statistics
 import subprocess
 import sys
+import tempfile
+import time
 
-# dx for the 2D dam break (H = 0.3 m) giving about 20k, 80k and 320k particles (fluid + wall)
-SIZES_2D = {"20k": 0.003, "80k": 0.0015, "320k": 0.00075}
-SIZE_3D = {"3d-100k": 0.01}
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# dx of the 2D dam break (H = 0.3 m) for about 80k and 320k fluid particles
+SIZES = {"80k": 0.0015, "320k": 0.00075}
+# the plain step's sizes compared with them
+PLAIN = {"80k": 100000, "320k": 400000}
+DOC = os.path.join(ROOT, "docs", "performance.md")
+BEGIN = "<!-- bench_engine:begin -->"
+END = "<!-- bench_engine:end -->"
 
 
-def bench(case, dx, threads, steps):
-    cmd = [sys.executable, "-m", "seawall", "bench", case, "--dx", str(dx), "--steps", str(steps),
-           "--threads", str(threads)]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout.strip().splitlines()[-1]
-    return json.loads(out)
+def seawall_bench(case, dx=None, threads=2, steps=60, boundary=None, env=None):
+    cmd = [sys.executable, "-m", "seawall", "bench", case, "--steps", str(steps), "--threads", str(threads)]
+    if dx is not None:
+        cmd += ["--dx", str(dx)]
+    if boundary:
+        cmd += ["--boundary", boundary]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT, env=env)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def plain_step(path, n, threads=2):
+    env = dict(os.environ, NUMBA_NUM_THREADS=str(threads), OMP_WAIT_POLICY="PASSIVE")
+    out = subprocess.run([sys.executable, path, str(n), "f64", "20"], capture_output=True, text=True, check=True,
+                         env=env)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def machine():
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                                cwd=ROOT).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], capture_output=True,
+                               text=True, cwd=ROOT).stdout.strip()
+        commit += "+changes" if dirty else ""
+    except OSError:
+        commit = "unknown"
+    import numba
+
+    return {"cpu": cpu, "cores": os.cpu_count(), "load": os.getloadavg()[0], "commit": commit,
+            "numba": numba.__version__, "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
+
+
+def side_by_side(args):
+    rows = {label: [] for label in SIZES}
+    for r in range(args.rounds):
+        for label, dx in SIZES.items():
+            plain = plain_step(args.plain, PLAIN[label])
+            sw = seawall_bench("dam-break", dx, 2, args.steps if label == "80k" else max(20, args.steps // 4))
+            rec = {"plain_psps": plain["psps"], "seawall_psps": sw["particle_steps_per_s"],
+                   "ms_per_step": sw["seconds"] / sw["steps"] * 1e3, "n": sw["n_particles"]}
+            rec["ratio"] = rec["seawall_psps"] / rec["plain_psps"]
+            rows[label].append(rec)
+            print(f"round {r + 1} {label}: plain {plain['psps'] / 1e6:.2f} M, seawall {rec['seawall_psps'] / 1e6:.2f} M "
+                  f"({rec['ms_per_step']:.1f} ms/step), ratio {rec['ratio']:.2f}", flush=True)
+    return rows
+
+
+def models(args):
+    from seawall.boundary.registry import BOUNDARIES
+
+    names = [m for m in BOUNDARIES if m != "adami"]
+    cpu = {m: [] for m in ["adami", *names]}
+    ratio = {m: [] for m in names}
+    for r in range(args.rounds):
+        for m in names:
+            base = seawall_bench("dam-break", args.model_dx, 1, args.model_steps, "adami")
+            rec = seawall_bench("dam-break", args.model_dx, 1, args.model_steps, m)
+            a = base["cpu_seconds"] / base["steps"]
+            b = rec["cpu_seconds"] / rec["steps"]
+            cpu["adami"].append(a)
+            cpu[m].append(b)
+            ratio[m].append(b / a)
+            print(f"round {r + 1} {m}: {b * 1e3:.1f} ms CPU/step, adami {a * 1e3:.1f}, ratio {b / a:.2f}", flush=True)
+    return cpu, ratio
+
+
+def startup(args):
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        cold = seawall_bench("dam-break", threads=2, steps=5, env=env)["compile_seconds"]
+        warm = seawall_bench("dam-break", threads=2, steps=5, env=env)["compile_seconds"]
+    print(f"start-up (compile + 2 steps of the default dam break): cold {cold:.1f} s, warm {warm:.2f} s", flush=True)
+    return cold, warm
+
+
+def tables(info, sbs, mods, start, args):
+    med = statistics.median
+    lines = [f"Measured {info['date']} on {info['cpu']} ({info['cores']} cores, shared: load average "
+             f"{info['load']:.1f} at the start), commit {info['commit']}, Numba {info['numba']}; "
+             f"`python benchmarks/bench_engine.py --rounds {args.rounds}`.", ""]
+    if sbs:
+        lines += ["| dam break, Adami + delta-SPH, 2 threads | particles | plain step M p-steps/s | seawall M p-steps/s "
+                  "| seawall ms/step | ratio (median of rounds) | ratios per round |",
+                  "| --- | --- | --- | --- | --- | --- | --- |"]
+        for label, recs in sbs.items():
+            lines.append(f"| {label} | {recs[0]['n']:,} (plain: {PLAIN[label]:,}) | "
+                         f"{med(r['plain_psps'] for r in recs) / 1e6:.2f} | {med(r['seawall_psps'] for r in recs) / 1e6:.2f} | "
+                         f"{med(r['ms_per_step'] for r in recs):.1f} | **{med(r['ratio'] for r in recs):.2f}** | "
+                         + ", ".join(f"{r['ratio']:.2f}" for r in recs) + " |")
+        if "80k" in sbs and "320k" in sbs:
+            g = med(b["ms_per_step"] / a["ms_per_step"] for a, b in zip(sbs["80k"], sbs["320k"]))
+            n = sbs["320k"][0]["n"] / sbs["80k"][0]["n"]
+            lines += ["", f"Time per step from 80k to 320k: {g:.2f}x for {n:.2f}x the particles (limit 4.2x)."]
+        lines.append("")
+    if mods:
+        cpu, ratio = mods
+        lines += [f"Wall models on the same dam break (dx = {args.model_dx} m), 1 thread, CPU time per step "
+                  f"(median of {args.rounds} rounds, each model interleaved with `adami`):", "",
+                  "| model | ms CPU / step | x adami (median) | per round |", "| --- | --- | --- | --- |",
+                  f"| adami | {med(cpu['adami']) * 1e3:.1f} | 1.00 | |"]
+        for m, rs in ratio.items():
+            lines.append(f"| {m} | {med(cpu[m]) * 1e3:.1f} | {'**' if med(rs) > 1.25 else ''}{med(rs):.2f}"
+                         f"{'**' if med(rs) > 1.25 else ''} | " + ", ".join(f"{x:.2f}" for x in rs) + " |")
+        lines.append("")
+    if start:
+        lines += [f"Start-up of `seawall bench dam-break` (default resolution; compile + first two steps): "
+                  f"{start[0]:.1f} s from an empty Numba cache, {start[1]:.2f} s with the cache filled.", ""]
+    return "\n".join(lines)
+
+
+def write_doc(text):
+    with open(DOC) as f:
+        doc = f.read()
+    block = f"{BEGIN}\n{text}\n{END}"
+    if BEGIN in doc and END in doc:
+        doc = doc[:doc.index(BEGIN)] + block + doc[doc.index(END) + len(END):]
+    else:
+        doc = doc.rstrip() + "\n\n" + block + "\n"
+    with open(DOC, "w") as f:
+        f.write(doc)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--steps", type=int, default=200, help="timed steps at 80k particles (scaled for other sizes)")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--steps", type=int, default=100, help="timed steps at 80k (a quarter of them at 320k)")
+    parser.add_argument("--only", choices=("side-by-side", "models", "startup"), action="append")
+    parser.add_argument("--plain", default=os.path.join(ROOT, "..", "shared", "bench", "plain_step.py"),
+                        help="the plain step of issue 19 (default ../shared/bench/plain_step.py beside the checkout)")
+    parser.add_argument("--model-dx", type=float, default=0.0015)
+    parser.add_argument("--model-steps", type=int, default=40)
+    parser.add_argument("--write-doc", action="store_true", help="rewrite the tables in docs/performance.md")
     args = parser.parse_args(argv)
-
-    runs = []
-    sizes = {"20k": 0.003, "80k": 0.0015} if args.quick else SIZES_2D
-    threads_list = (2,) if args.quick else (1, 2)
-    for label, dx in sizes.items():
-        for threads in threads_list:
-            steps = {"20k": 2 * args.steps, "80k": args.steps, "320k": max(20, args.steps // 3)}[label]
-            runs.append(("dam-break", label, threads, bench("dam-break", dx, threads, steps)))
-    if not args.quick:
-        for label, dx in SIZE_3D.items():
-            for threads in threads_list:
-                runs.append(("dam-break-3d", label, threads, bench("dam-break-3d", dx, threads, max(20, args.steps // 3))))
-
-    print(f"{'case':<14}{'size':>8}{'threads':>9}{'particles':>11}{'ms/step':>10}{'M p-steps/s':>13}"
-          f"{'median':>8}{'best':>8}{'compile s':>11}")
-    for case, label, threads, rec in runs:
-        ms = rec["seconds"] / rec["steps"] * 1e3
-        print(f"{case:<14}{label:>8}{threads:>9}{rec['n_particles']:>11}{ms:>10.2f}"
-              f"{rec['particle_steps_per_s'] / 1e6:>13.3f}{rec['median_chunk_particle_steps_per_s'] / 1e6:>8.3f}"
-              f"{rec['best_chunk_particle_steps_per_s'] / 1e6:>8.3f}{rec['compile_seconds']:>11.1f}")
-    for *_, rec in runs:
-        print(json.dumps(rec))
-
-    by = {(c, l, t): r for c, l, t, r in runs}
-    target = by.get(("dam-break", "80k", 2))
-    if target:
-        ok = target["particle_steps_per_s"] >= 2.5e6
-        print(f"target 2D 80k, 2 threads >= 2.5 M particle-steps/s: "
-              f"{target['particle_steps_per_s'] / 1e6:.2f} M -> {'met' if ok else 'NOT met'}")
-    big = by.get(("dam-break", "320k", 2))
-    if target and big:
-        growth = (big["seconds"] / big["steps"]) / (target["seconds"] / target["steps"])
-        ratio = big["n_particles"] / target["n_particles"]
-        print(f"time per step 80k -> 320k ({ratio:.2f}x particles): {growth:.2f}x "
-              f"-> {'met' if growth <= 4.4 else 'NOT met'} (limit 4.4x)")
+    parts = args.only or ["side-by-side", "models", "startup"]
+    info = machine()
+    print(json.dumps(info), flush=True)
+    sbs = side_by_side(args) if "side-by-side" in parts else None
+    mods = models(args) if "models" in parts else None
+    start = startup(args) if "startup" in parts else None
+    text = tables(info, sbs, mods, start, args)
+    print(text)
+    if args.write_doc:
+        write_doc(text)
 
 
 if __name__ == "__main__":

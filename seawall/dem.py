@@ -74,9 +74,9 @@ def contact_accelerations(layout, x, v, radius, mass, start, order, xw, rw, star
 
     ``overlap[i]`` receives the largest overlap of element i divided by its radius.
     """
-    dim = tag_dim(layout)
-    nrows = 25 if dim == 3 else 5
     for i in prange(x.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         vi0, vi1, vi2 = point_of(v, i, dim)

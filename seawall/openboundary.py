@@ -85,11 +85,11 @@ def characteristic_sums(layout, idx, x, v, rho, zone, normals, start, order, lo,
     the particle's zone. The characteristic variables follow linearly
     (Negi et al. 2020 Shepard interpolation, [TrixiBoundary]).
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     for k in prange(idx.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         i = idx[k]
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -129,11 +129,11 @@ def characteristic_sums(layout, idx, x, v, rho, zone, normals, start, order, lo,
 def zone_neighbour_average(layout, idx, x, zone, supported, J, start, order, lo, inv_cell, ncell, period, prm,
                            out, found):
     """Shepard average of J over the same-zone neighbours with ``supported`` set, for unsupported idx[k]."""
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     for k in prange(idx.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         i = idx[k]
         found[k] = 0
         if supported[i]:

@@ -20,7 +20,7 @@ from .coupling import Coupling
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
-from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, summation_density
+from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, scheme_tag, summation_density
 from .fluid.regularisation import (concentration_sums, corrected_vectors, max_speed, surface_lambda,
                                    transport_stress)
 from .fluid.system import FluidSystem
@@ -410,8 +410,17 @@ class Simulation(Runner):
                 wall.cells = g.build(wall.x)  # neighbour structures refreshed only while moving
             wall.model.update(wall, self.fluid, ctx)
         lagged = prm.diffusion == DIFFUSION_RENORMALISED and prm.lagged_gradient
-        if prm.diffusion == DIFFUSION_RENORMALISED and (not lagged or not self._rates_ready):
-            # exact: this state's gradient (also the first evaluation of a lagged run)
+        if lagged and not self._rates_ready:
+            # the first evaluation of a lagged run needs this state's gradient: a fluid pass (whose
+            # rates the one below overwrites) accumulates it, so that the default run never compiles
+            # renormalised_density_gradient (about a tenth of its compile time)
+            fp["grad_rho"][:] = 0.0
+            fluid_rates(fluid_view(fp), cell_view(g, cells), fp["grad_rho"], prm, ctx.rates, fp["grad_rho_next"],
+                        self._scheme(prm))
+            fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
+            grad = fp["grad_rho"]
+        elif prm.diffusion == DIFFUSION_RENORMALISED and not lagged:
+            # exact: this state's gradient
             grad = fp["grad_rho"]
             renormalised_density_gradient(g.layout, fp["x"], fp["rho"], fp["volume"], cells.start, cells.order, g.lo,
                                           g.inv_cell, g.ncell, g.period, prm, grad)
@@ -420,7 +429,7 @@ class Simulation(Runner):
         else:
             grad = self._empty_grad
         fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, ctx.rates,
-                    fp["grad_rho_next"] if lagged else self._empty_grad)
+                    fp["grad_rho_next"] if lagged else self._empty_grad, self._scheme(prm))
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
         for wall in self.walls:
@@ -439,6 +448,13 @@ class Simulation(Runner):
             coupling.add_rates(self, ctx)
         if self.fluid.density_mode == "summation":
             fp["drho"][:] = 0.0
+
+    def _scheme(self, prm):
+        """fluid_rates' compile-time switches for ``prm`` (rebuilt only when the physics object changes)."""
+        if getattr(self, "_scheme_physics", None) is not prm:
+            self._scheme_tag = scheme_tag(prm)
+            self._scheme_physics = prm
+        return self._scheme_tag
 
     def _wall_acts(self, wall, ctx):
         """The wall model's terms, then the wall's adhesion (if any), added to the fluid's rates."""

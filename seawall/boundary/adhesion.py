@@ -56,11 +56,11 @@ def adhesion_accelerations(xf, xw, psi, cells, support, beta, dv):
     inv_cell = cells.inv_cell
     ncell = cells.ncell
     period = cells.period
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
     support2 = support * support
     for i in prange(xf.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:

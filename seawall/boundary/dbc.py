@@ -143,13 +143,13 @@ def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order,
     drift_w[b] = -sum_f m_f xsph_f . grad_f W_fb     (what eq. 8 misses of d(sum_w)/dt when the
                  fluid moves with the XSPH velocity v + xsph, eq. 10)
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     n = xw.shape[0]
     inv_h = 1.0 / prm.h
     support = np.sqrt(prm.support2)
-    nrows = 25 if dim == 3 else 5
     for b in prange(n):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         n0, n1, n2 = point_of(nw_, b, dim)
@@ -223,6 +223,7 @@ def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, ra
     t2w = tangent2
     start = cells.start
     order = cells.order
+    reach = cells.reach
     lo = cells.lo
     inv_cell = cells.inv_cell
     ncell = cells.ncell
@@ -237,13 +238,10 @@ def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, ra
     drho = rates.drho
     mu_max = rates.mu_max
     xsph = rates.xsph
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     n = xf.shape[0]
     h = prm.h
     inv_h = 1.0 / h
     support = np.sqrt(prm.support2)
-    nrows = 25 if dim == 3 else 5
     rho0 = prm.rho0
     c0 = prm.c0
     tensile = prm.tensile and terms.tensile
@@ -251,8 +249,13 @@ def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, ra
     eps = prm.xsph
     use_xsph = eps > 0.0 and terms.xsph
     for i in prange(n):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
+            continue   # no wall particle in the cells this particle searches (CellList.reach_mask)
         vi0, vi1, vi2 = point_of(vf, i, dim)
         rhoi = rhof[i]
         pa = expanded_pressure(rhoi, rho0, c0, eos_order, prm.p_background)
@@ -526,7 +529,7 @@ class ImprovedDynamicBoundary(WallModel):
         dyn = DynamicParams(self.order, int(self.rectangular), self._corr, self._half[0], self._half[1],
                             self.alpha_wall)
         dbc_fluid_forces(fluid_view(fluid.particles), wall_view(pa), pa["tangent1"], pa["tangent2"],
-                         cell_view(ctx.grid, wall.cells), ctx.physics, dyn, self.cross_terms(ctx.physics),
+                         cell_view(ctx.grid, wall.cells, reach=True), ctx.physics, dyn, self.cross_terms(ctx.physics),
                          rates_bundle(fluid, ctx, dv, drho))
 
     def describe(self):

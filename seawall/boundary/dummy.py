@@ -58,12 +58,12 @@ DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring
 def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv_cell, ncell, period, prm,
                      noslip, clip_negative, pw, rhow, vw_visc):
     """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle."""
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     for b in prange(nw):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         ab0, ab1, ab2 = point_of(aw, b, dim)
@@ -119,12 +119,12 @@ def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, or
     (990 and 763 kg/m^3 in layers 2 and 3 at h = 1.3 dx) and unclipped they
     suck the nearest fluid into the wall.
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     for b in prange(nw):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         acc = 0.0
@@ -159,13 +159,13 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
 
     [TrixiBoundary] "ContinuityDensity"; [Li2022] eq. 8 written for wall particle b.
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     for b in prange(nw):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         vb0, vb1, vb2 = point_of(vw, b, dim)
@@ -226,16 +226,16 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     period = cells.period
     dv = rates.dv
     drho = rates.drho
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     nf = xf.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     riemann = prm.riemann != 0
     rho0c0 = prm.rho0 * prm.c0
     for i in prange(nf):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:

@@ -73,8 +73,8 @@ def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm,
     A ghost whose mirror point has no fluid neighbour gets the background
     pressure, rho0 and the wall velocity.
     """
-    dim = tag_dim(layout)
     for b in prange(xg.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         vw0, vw1, vw2 = point_of(vwall, b, dim)
         if count[b] == 0:
             pg[b] = prm.p_background
@@ -132,26 +132,29 @@ def ghost_forces(fluid, wall, cells, prm, terms, rates):
     mg = wall.m
     start = cells.start
     order = cells.order
+    reach = cells.reach
     lo = cells.lo
     inv_cell = cells.inv_cell
     ncell = cells.ncell
     period = cells.period
     dv = rates.dv
     drho = rates.drho
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     nf = xf.shape[0]
     h = prm.h
     inv_h = 1.0 / h
-    nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     alpha = prm.alpha if terms.artificial_viscosity else 0.0
     beta = prm.beta
     nu = prm.nu if terms.laminar_viscosity else 0.0
     for i in prange(nf):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
+            continue   # no wall particle in the cells this particle searches (CellList.reach_mask)
         vi0, vi1, vi2 = point_of(vf, i, dim)
         rhoi = rhof[i]
         pr_i = pf[i] / (rhoi * rhoi)
@@ -361,7 +364,7 @@ class GhostParticles(WallModel):
 
     def interact(self, fluid, wall, ctx, dv, drho):
         ghost_forces(fluid_view(fluid.particles), wall_view(wall.particles, v="v_ghost"),
-                     cell_view(ctx.grid, wall.cells), ctx.physics, self.cross_terms(ctx.physics),
+                     cell_view(ctx.grid, wall.cells, reach=True), ctx.physics, self.cross_terms(ctx.physics),
                      rates_bundle(fluid, ctx, dv, drho))
 
     def after_step(self, wall, fluid, sim):

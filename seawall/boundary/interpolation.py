@@ -630,8 +630,8 @@ def corrected_point(layout, first_order, det_min, clip_from, p0, p1, p2, xf, fie
 def interpolate_points(layout, kind, mu, lam, flag, points, xf, fields, vol, start, order, lo, inv_cell, ncell,
                        period, prm, out, count):
     """Interpolate every column of ``fields`` at every row of ``points`` (one thread per point)."""
-    dim = tag_dim(layout)
     for k in prange(points.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         p0, p1, p2 = point_of(points, k, dim)
         limit = (flag & 2) != 0
         if kind == MLS_LINEAR:

@@ -64,11 +64,11 @@ def liu2012_wall_forces(xf, xw, cells, prm, dd, c, dv):
     inv_cell = cells.inv_cell
     ncell = cells.ncell
     period = cells.period
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
     dd2 = dd * dd
     for i in prange(xf.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:

@@ -68,13 +68,13 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
     particles do not move (``surface_moves`` false, e.g. a sliding lid) the
     wall's normal velocity is zero whatever its prescribed (tangential) velocity.
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     n = xw.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     cs = prm.c0
     for b in prange(n):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         n0, n1, n2 = point_of(nw, b, dim)
@@ -149,14 +149,14 @@ def liu2015_wall_forces(fluid, wall, vbn, rho_b, cells, prm, continuity_mode, wa
     inv_cell = cells.inv_cell
     ncell = cells.ncell
     period = cells.period
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     nf = xf.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     for i in prange(nf):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:

@@ -73,8 +73,8 @@ def mdbc_wall_state(layout, xw, ghost, vwall, xf, fields, vol, start, order, lo,
     p_b = EOS(rho_b); v_b = v_w (vel0) or 2 v_w - v_g (no slip). ``outcome[b]`` is the
     interpolation's outcome (interpolation.CORRECTED_*).
     """
-    dim = tag_dim(layout)
     for b in prange(xw.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         g0, g1, g2 = point_of(ghost, b, dim)
         # the velocity (columns 1..) is limited to the neighbours' range; the density is extrapolated
         cnt, how = corrected_point(layout, first_order, det_min, 1, g0, g1, g2, xf, fields, vol, start, order, lo,
@@ -201,7 +201,7 @@ class ModifiedDynamicBoundary(WallModel):
         # continuity with the wall's own velocity, viscosity with the mirrored one (as the Adami
         # no-slip wall, docs/boundaries.md "mDBC", choice 7); identical for slip="vel0"
         ghost_forces(fluid_view(fluid.particles), wall_view(wall.particles, v="v", v_visc="v_mdbc"),
-                     cell_view(ctx.grid, wall.cells), ctx.physics, self.cross_terms(ctx.physics),
+                     cell_view(ctx.grid, wall.cells, reach=True), ctx.physics, self.cross_terms(ctx.physics),
                      rates_bundle(fluid, ctx, dv, drho))
 
     def describe(self):

@@ -107,13 +107,13 @@ def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
     spacing = rep.spacing
     alpha_wall = rep.alpha_wall
     pair_mass = rep.pair_mass != 0
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
     h = prm.h
     inv_h = 1.0 / h
     gradient_scale = prm.sigma * inv_h * inv_h
     for i in prange(xf.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:

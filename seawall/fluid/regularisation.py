@@ -170,13 +170,13 @@ def concentration_sums(layout, x, vol, xb, volb, start_b, order_b, lo, inv_cell,
 
     With ``same`` the arrays are overwritten (the fluid pass comes first).
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     n = x.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     for i in prange(n):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         vi2 = vol[i] * vol[i]
@@ -306,13 +306,13 @@ def transport_stress(layout, x, v, rho, vol, m, dvt, xb, vb, rhob, volb, dvtb, s
     * drho_i += (v~_i - v_i) . sum_b V_b (rho_b - rho_i) grad_i W_ib  (fluid pairs only): the density
       followed along v~ instead of v (docs/formulas.md).
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     n = x.shape[0]
     inv_h = 1.0 / prm.h
-    nrows = 25 if dim == 3 else 5
     gradient_scale = prm.sigma * inv_h * inv_h
     for i in prange(n):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         vi0, vi1, vi2 = point_of(v, i, dim)
