@@ -55,9 +55,9 @@ repaired particle by particle (a non-finite time step after the removals).
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
-from .diagnostics import REASONS, signed_wall_distance
+from .diagnostics import REASONS, nearest_wall_particle
 from .errors import ParameterError, require_positive
 
 KEEP = 0
@@ -171,6 +171,38 @@ def walls_top(walls, gravity, dx):
     return axis, up, top
 
 
+@njit(cache=True, parallel=True)
+def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2,
+                          deepest):
+    """deepest[i] = min(deepest[i], signed distance of particle i from this wall's surface) for the
+    particles the wall guard tests (kept or density-flagged, below ``level`` along ``axis`` when
+    axis >= 0). The distance is :func:`seawall.diagnostics.signed_wall_distance`'s; one parallel
+    pass without temporary arrays (the masks and copies it replaced took ~1 ms a step at 80k)."""
+    dim = x.shape[1]
+    for i in prange(x.shape[0]):
+        c = codes[i]
+        if c != KEEP and c != _DENSITY:
+            continue
+        if axis >= 0 and up * x[i, axis] >= level:
+            continue
+        p0 = x[i, 0]
+        p1 = x[i, 1]
+        p2 = x[i, 2] if dim == 3 else 0.0
+        # the reach test before the call: most particles are far from every wall, and the call costs more
+        c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+        c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+        c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+        if reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
+            continue
+        b = nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2)
+        if b >= 0:
+            s = (p0 - sw[b, 0]) * nw[b, 0] + (p1 - sw[b, 1]) * nw[b, 1]
+            if dim == 3:
+                s += (p2 - sw[b, 2]) * nw[b, 2]
+            if s < deepest[i]:
+                deepest[i] = s
+
+
 def wall_depth_codes(sim, depth, codes, top=None):
     """Set ``codes`` to WALL where a fluid particle lies more than ``depth`` [m] behind a wall surface.
 
@@ -178,24 +210,19 @@ def wall_depth_codes(sim, depth, codes, top=None):
     """
     fp = sim.fluid.particles
     g = sim.grid
-    wanted = (codes == KEEP) | (codes == _DENSITY)
-    if top is not None:
-        axis, up, level = top
-        wanted &= up * fp["x"][:, axis] < level
-    candidates = np.flatnonzero(wanted)
-    if candidates.size == 0:
-        return
-    x = np.ascontiguousarray(fp["x"][candidates]) if candidates.size < fp.n else fp["x"]
-    deepest = np.full(candidates.size, np.inf)
-    dist = np.empty(candidates.size)
+    axis, up, level = (int(top[0]), float(top[1]), float(top[2])) if top is not None else (-1, 1.0, 0.0)
+    deepest = None
     for wall in sim.walls:
         pa = wall.particles
         if wall.n == 0 or "normal" not in pa or "surface" not in pa:
             continue
-        signed_wall_distance(x, pa["x"], pa["normal"], pa["surface"], wall.cells.start, wall.cells.order,
-                             wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, sim.physics.support2, dist)
-        np.minimum(deepest, dist, out=deepest)
-    codes[candidates[deepest < -depth]] = WALL
+        if deepest is None:
+            deepest = np.full(fp.n, np.inf)
+        deepest_wall_distance(fp["x"], codes, axis, up, level, pa["x"], pa["normal"], pa["surface"], wall.cells.start,
+                              wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell,
+                              sim.physics.support2, deepest)
+    if deepest is not None:
+        codes[deepest < -depth] = WALL
 
 
 def reason_name(code):
