@@ -391,7 +391,9 @@ class Simulation(Runner):
         fp = self.fluid.particles
         g = self.grid
         prm = self.physics
-        cells = g.build(fp["x"])
+        # the arrays of this evaluation's list are reused by the next (see CellGrid.build)
+        cells = g.build(fp["x"], reuse=getattr(self, "_evaluation_cells", None))
+        self._evaluation_cells = cells
         self.fluid_cells = cells
         if self.fluid.density_mode == "summation":
             rho = fp["rho"]
