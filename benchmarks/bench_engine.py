@@ -46,8 +46,6 @@ SIZES = {"80k": 0.0015, "320k": 0.00075}
 # the plain step's sizes compared with them
 PLAIN = {"80k": 100000, "320k": 400000}
 DOC = os.path.join(ROOT, "docs", "performance.md")
-BEGIN = "<!-- bench_engine:begin -->"
-END = "<!-- bench_engine:end -->"
 
 
 def seawall_bench(case, dx=None, threads=2, steps=60, boundary=None, env=None):
@@ -132,14 +130,16 @@ def startup(args):
 
 
 def tables(info, sbs, mods, start, args):
+    """Markdown per part measured: {part: text}, each headed by the machine line."""
     med = statistics.median
-    lines = [f"Measured {info['date']} on {info['cpu']} ({info['cores']} cores, shared: load average "
-             f"{info['load']:.1f} at the start), commit {info['commit']}, Numba {info['numba']}; "
-             f"`python benchmarks/bench_engine.py --rounds {args.rounds}`.", ""]
+    head = (f"Measured {info['date']} on {info['cpu']} ({info['cores']} cores, shared: load average "
+            f"{info['load']:.1f} at the start), commit {info['commit']}, Numba {info['numba']}; "
+            f"`python benchmarks/bench_engine.py --rounds {args.rounds}`.")
+    parts = {}
     if sbs:
-        lines += ["| dam break, Adami + delta-SPH, 2 threads | particles | plain step M p-steps/s | seawall M p-steps/s "
-                  "| seawall ms/step | ratio (median of rounds) | ratios per round |",
-                  "| --- | --- | --- | --- | --- | --- | --- |"]
+        lines = [head, "", "| dam break, Adami + delta-SPH, 2 threads | particles | plain step M p-steps/s | "
+                 "seawall M p-steps/s | seawall ms/step | ratio (median of rounds) | ratios per round |",
+                 "| --- | --- | --- | --- | --- | --- | --- |"]
         for label, recs in sbs.items():
             lines.append(f"| {label} | {recs[0]['n']:,} (plain: {PLAIN[label]:,}) | "
                          f"{med(r['plain_psps'] for r in recs) / 1e6:.2f} | {med(r['seawall_psps'] for r in recs) / 1e6:.2f} | "
@@ -149,31 +149,35 @@ def tables(info, sbs, mods, start, args):
             g = med(b["ms_per_step"] / a["ms_per_step"] for a, b in zip(sbs["80k"], sbs["320k"]))
             n = sbs["320k"][0]["n"] / sbs["80k"][0]["n"]
             lines += ["", f"Time per step from 80k to 320k: {g:.2f}x for {n:.2f}x the particles (limit 4.2x)."]
-        lines.append("")
+        parts["side-by-side"] = "\n".join(lines)
     if mods:
         cpu, ratio = mods
-        lines += [f"Wall models on the same dam break (dx = {args.model_dx} m), 1 thread, CPU time per step "
-                  f"(median of {args.rounds} rounds, each model interleaved with `adami`):", "",
-                  "| model | ms CPU / step | x adami (median) | per round |", "| --- | --- | --- | --- |",
-                  f"| adami | {med(cpu['adami']) * 1e3:.1f} | 1.00 | |"]
+        lines = [head, "", f"Wall models on the same dam break (dx = {args.model_dx} m), 1 thread, CPU time per step "
+                 f"(median of {args.rounds} rounds, each model interleaved with `adami`):", "",
+                 "| model | ms CPU / step | x adami (median) | per round |", "| --- | --- | --- | --- |",
+                 f"| adami | {med(cpu['adami']) * 1e3:.1f} | 1.00 | |"]
         for m, rs in ratio.items():
             lines.append(f"| {m} | {med(cpu[m]) * 1e3:.1f} | {'**' if med(rs) > 1.25 else ''}{med(rs):.2f}"
                          f"{'**' if med(rs) > 1.25 else ''} | " + ", ".join(f"{x:.2f}" for x in rs) + " |")
-        lines.append("")
+        parts["models"] = "\n".join(lines)
     if start:
-        lines += [f"Start-up of `seawall bench dam-break` (default resolution; compile + first two steps): "
-                  f"{start[0]:.1f} s from an empty Numba cache, {start[1]:.2f} s with the cache filled.", ""]
-    return "\n".join(lines)
+        parts["startup"] = "\n".join([head, "", "Start-up of `seawall bench dam-break` (default resolution; compile + "
+                                      f"first two steps): {start[0]:.1f} s from an empty Numba cache, {start[1]:.2f} s "
+                                      "with the cache filled."])
+    return parts
 
 
-def write_doc(text):
+def write_doc(parts):
+    """Replace each measured part's block in docs/performance.md (appended if missing); others stay."""
     with open(DOC) as f:
         doc = f.read()
-    block = f"{BEGIN}\n{text}\n{END}"
-    if BEGIN in doc and END in doc:
-        doc = doc[:doc.index(BEGIN)] + block + doc[doc.index(END) + len(END):]
-    else:
-        doc = doc.rstrip() + "\n\n" + block + "\n"
+    for part, text in parts.items():
+        begin, end = f"<!-- bench_engine:{part}:begin -->", f"<!-- bench_engine:{part}:end -->"
+        block = f"{begin}\n{text}\n{end}"
+        if begin in doc and end in doc:
+            doc = doc[:doc.index(begin)] + block + doc[doc.index(end) + len(end):]
+        else:
+            doc = doc.rstrip() + "\n\n" + block + "\n"
     with open(DOC, "w") as f:
         f.write(doc)
 
@@ -195,10 +199,10 @@ def main(argv=None):
     sbs = side_by_side(args) if "side-by-side" in parts else None
     mods = models(args) if "models" in parts else None
     start = startup(args) if "startup" in parts else None
-    text = tables(info, sbs, mods, start, args)
-    print(text)
+    parts = tables(info, sbs, mods, start, args)
+    print("\n\n".join(parts.values()))
     if args.write_doc:
-        write_doc(text)
+        write_doc(parts)
 
 
 if __name__ == "__main__":
