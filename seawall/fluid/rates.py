@@ -176,9 +176,10 @@ def scheme_tag(prm):
 
     A tuple of zero-size arrays whose numbers of axes are the switches' values + 1, the same device as
     :func:`seawall.neighbors.layout_tag`: Numba compiles one :func:`fluid_rates` per combination and
-    folds away every branch a run does not take. Measured (dam break, 80k particles, 2 threads, the
-    loop alone, interleaved): 12.6 -> 9.7 ms, the kernel's id 8 % of it, the other switches 16 %.
-    Their values still come from ``prm`` (this only says which branches exist).
+    folds away every branch a run does not take. Measured (dam break, 80k particles, the loop alone,
+    1 thread, CPU time): 25.5 -> 19.5 ms, of which the kernel's id 8 %; read inside the parallel body
+    together with dim and periodicity, 15.9 ms (docs/architecture.md). Their values still come from
+    ``prm`` (this only says which branches exist).
     """
     switches = (prm.kernel, prm.riemann != 0, prm.tensile != 0, prm.nu > 0.0, prm.diffusion,
                 prm.diffusion == DIFFUSION_RENORMALISED and prm.lagged_gradient != 0, prm.xsph > 0.0,
