@@ -84,7 +84,7 @@ def test_bench_prints_one_json_line(capsys):
     lines = out.strip().splitlines()
     assert len(lines) == 1
     rec = json.loads(lines[0])
-    for key in ("n_particles", "steps", "seconds", "particle_steps_per_s", "compile_seconds"):
+    for key in ("n_particles", "steps", "seconds", "particle_steps_per_s", "compile_seconds", "cpu_seconds"):
         assert key in rec
     assert rec["steps"] == 5 and rec["particle_steps_per_s"] > 0
 
