@@ -11,11 +11,13 @@ from .ghost import GhostParticles
 from .interpolation import MLS, SFDI, ImprovedShepard, Interpolation, Normalised
 from .liu2012 import Liu2012Force
 from .liu2015 import Liu2015Wall
+from .lust import LocalUniformStencil
 from .movement import PrescribedMotion
 from .repulsive import MonaghanKajtar
 from .registry import BOUNDARIES, boundary_by_name
 
 __all__ = ["WallModel", "WallSystem", "EvaluationContext", "DummyParticles", "DynamicBoundary",
            "ImprovedDynamicBoundary", "GhostParticles", "MonaghanKajtar", "Liu2012Force", "Liu2015Wall",
+           "LocalUniformStencil",
            "Interpolation", "MLS", "SFDI", "Normalised", "ImprovedShepard", "PrescribedMotion", "BOUNDARIES",
            "boundary_by_name"]

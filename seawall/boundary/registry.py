@@ -70,6 +70,15 @@ def _mdbc(default_slip):
     return factory
 
 
+def _lust(default_slip="free"):
+    def factory(*, slip=default_slip, pressure="hydrostatic", alpha_wall=None):
+        from .lust import LocalUniformStencil
+
+        return LocalUniformStencil(slip=str(slip), pressure=str(pressure),
+                                   alpha_wall=None if alpha_wall is None else _number("alpha_wall", alpha_wall))
+    return factory
+
+
 def _liu2012(*, beta=2.0, c=None):
     from .liu2012 import Liu2012Force
 
@@ -153,6 +162,9 @@ BOUNDARIES = {
     "mdbc-noslip": (_mdbc("noslip"), "mDBC with no slip: v_b = 2 v_w - v_ghost ([English2022])"),
     "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2 c=<force speed, "
                 "default c0>)"),
+    "lust": (_lust(), "local uniform stencil, Fourtakas et al. (2019, [Fourtakas2019]): virtual nodes of a lattice "
+             "anchored on each fluid particle fill its support behind the wall (--set slip=free|noslip "
+             "pressure=hydrostatic|copy alpha_wall=<fluid's alpha>)"),
 }
 
 

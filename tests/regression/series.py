@@ -105,6 +105,7 @@ def _all_series():
     for case, params, t in (("hydrostatic", HYDROSTATIC, HYDROSTATIC_T), ("dam-break", DAM_BREAK, DAM_BREAK_T)):
         out[f"{case}-continuity-noslip"] = Series(case, "continuity", params, t, t / 30, {"slip": "noslip"})
         out[f"{case}-ghost-mls1-noslip"] = Series(case, "ghost-mls1", params, t, t / 30, {"slip": "noslip"})
+        out[f"{case}-lust-noslip"] = Series(case, "lust", params, t, t / 30, {"slip": "noslip"})
         # the fluid scheme of [Huang2019] (linear EOS, Gaussian kernel, delta-SPH)
         out[f"{case}-marrone2011"] = Series(case, "adami", {**params, "scheme": "marrone2011"}, t, t / 30)
     # the two cavity fluids: laminar viscosity with a linear EOS, and the liu2015 preset ([Liu2015] sec. 2)

@@ -3,11 +3,12 @@
 
 * fields -- dimensionless force and potential per order ([Li2022] Fig. 1-2)
   and the force field of a row of six wall particles (Fig. 4 a-d);
-* box    -- particle-in-box trajectory and kinetic energy, DBC vs IDBC (Fig. 8);
+* box    -- particle-in-box trajectory and kinetic energy, DBC vs IDBC vs LUST (Fig. 8);
 * drop   -- f_sym(t) of the drop on the symmetric and shifted walls (Fig. 11);
 * sweep  -- break-through speed of each model (sec. 4.2).
 
-Every part prints the numbers it measured as JSON lines.
+``--models dbc,idbc,lust`` (the default) chooses the wall models. Every part prints the numbers it
+measured as JSON lines.
 """
 
 import argparse
@@ -84,15 +85,29 @@ def _closing(times, x, y, x0, y0, period):
     return float(d.min())
 
 
-def box(out, t_end=6.5):
+MODELS = ("dbc", "idbc", "lust")
+COLOURS = {"dbc": "r", "idbc": "b", "lust": "g"}
+
+
+def _options(boundary, case):
+    """Wall options of the figures: IDBC with the wall density integrated across the rectangle's edges
+    (docs/idbc.md, choice 3); LUST with no artificial viscosity across the wall in the drop, as the
+    seed's fluid-wall alpha = 0 ([Li2022] sec. 4.2; its box has no viscosity at all)."""
+    if boundary == "idbc" and case == "box":
+        return {"wall_density": "consistent"}
+    if boundary == "lust":
+        return {"alpha_wall": 0.0}
+    return {}
+
+
+def box(out, models=MODELS, t_end=6.5):
     from seawall.cases import build
 
     plt = _plt()
     fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
-    for b, style in (("dbc", "r-"), ("idbc", "b-")):
-        # IDBC with the wall density integrated across the rectangle's edges, as docs/idbc.md's table
-        options = {"wall_density": "consistent"} if b == "idbc" else {}
-        sim = build("particle-in-box", boundary=b, threads=1, **options)
+    for b in models:
+        style = COLOURS.get(b, "k") + "-"
+        sim = build("particle-in-box", boundary=b, threads=1, **_options(b, "box"))
         sim.add(every=1e-3)
         r = sim.run(t_end, progress=False)
         x, y, ke = r["x"], r["y"], r["kinetic_energy"]
@@ -100,11 +115,22 @@ def box(out, t_end=6.5):
         err = _closing(r.times, x, y, 30.0, 36.0, period)
         post = r.times > 0.95 * t_end
         v = sim.fluid.particles["v"][0]
+        # the first bounce (on the right wall, at t = 1.475 s for a specular path): where the wall starts
+        # to act (kinetic energy 0.1 % below its start) and where the particle turns, as distances from
+        # the nearest wall-particle line (x, y = 0 or L) in h
+        h = sim.h
+        L = sim.reference["L"]
+        dist = np.minimum.reduce([x, y, L - x, L - y]) / h
+        first = r.times < 0.27 * sim.reference["period"]
+        onset = int(np.argmax(ke[first] < 0.999 * ke[0]))
+        turn = int(np.argmin(dist[first]))
         print(json.dumps({"part": "box", "boundary": b, "closing_error_m": err,
                           "ke_drift_end": float(ke[-1] / ke[0] - 1.0),
                           "ke_min_during_contact": float(ke.min() / ke[0] - 1.0),
                           "direction_error_deg_end": float(np.degrees(np.arctan2(abs(v[1]), abs(v[0])) - np.pi / 4)),
-                          "steps": r.summary["steps"], "ke_end_window_mean": float(ke[post].mean() / ke[0] - 1)}))
+                          "steps": r.summary["steps"], "ke_end_window_mean": float(ke[post].mean() / ke[0] - 1),
+                          "first_bounce": {"onset_t": float(r.times[onset]), "onset_distance_h": float(dist[onset]),
+                                           "turn_t": float(r.times[turn]), "turn_distance_h": float(dist[turn])}}))
         ax[0].plot(x, y, style, lw=0.8, label=f"{b} (closing error {err:.3g} m)")
         ax[1].plot(r.times, ke / ke[0], style, lw=0.8, label=b)
     ax[0].plot([30], [36], "ko")
@@ -118,14 +144,15 @@ def box(out, t_end=6.5):
     plt.close(fig)
 
 
-def drop(out):
+def drop(out, models=MODELS):
     from seawall.cases.idbc_tests import drop_run
 
     plt = _plt()
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
-    for b, col in (("dbc", "r"), ("idbc", "b")):
+    for b in models:
+        col = COLOURS.get(b, "k")
         for shift, ls in ((0.0, "--"), (0.3, "-")):
-            res = drop_run(b, threads=1, shift=shift)
+            res = drop_run(b, threads=1, shift=shift, **_options(b, "drop"))
             t = res["times"]
             fs = res["f_sym"]
             late = t >= 1.0e-3
@@ -147,12 +174,12 @@ def drop(out):
     plt.close(fig)
 
 
-def sweep(out, speeds=(5, 10, 20, 30, 40, 50, 65, 80, 100)):
+def sweep(out, models=MODELS, speeds=(5, 10, 16, 20, 30, 40, 50, 65, 80, 100)):
     from seawall.cases.idbc_tests import breakthrough_speed
 
     for layers in (1, 3):
-        for b in ("dbc", "idbc"):
-            first, rows = breakthrough_speed(b, list(speeds), threads=1, layers=layers)
+        for b in models:
+            first, rows = breakthrough_speed(b, list(speeds), threads=1, layers=layers, **_options(b, "drop"))
             print(json.dumps({"part": "sweep", "boundary": b, "layers": layers, "first_escape_speed": first,
                               "rows": rows}))
 
@@ -161,11 +188,13 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python validation/idbc/figures.py", description=__doc__.splitlines()[0])
     parser.add_argument("what", nargs="?", default="all", choices=("fields", "box", "drop", "sweep", "all"))
     parser.add_argument("--out", default=os.path.join(HERE, "img"))
+    parser.add_argument("--models", default=",".join(MODELS), help="wall models of box, drop and sweep")
     args = parser.parse_args(argv)
+    models = tuple(m.strip() for m in args.models.split(",") if m.strip())
     os.makedirs(args.out, exist_ok=True)
     for name, fn in (("fields", fields), ("drop", drop), ("sweep", sweep), ("box", box)):
         if args.what in (name, "all"):
-            fn(args.out)
+            fn(args.out) if name == "fields" else fn(args.out, models)
     return 0
 
 

@@ -49,12 +49,24 @@ def front_error(run_dir, ref_file, folder):
     return float((sph[worst] - ref[worst, 1]) / ref[worst, 1])
 
 
+def _parse(value):
+    """A stored CSV cell back to a number, None or text."""
+    if value in ("", "None"):
+        return None
+    try:
+        number = float(value)
+    except ValueError:
+        return value
+    return int(number) if number.is_integer() and "." not in value and "e" not in value.lower() else number
+
+
 def main(argv=None):
     from seawall.compare import compare
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--models", help="comma-separated subset (adami first for the cost column)")
+    parser.add_argument("--models", help="comma-separated subset (adami first for the cost column); their rows "
+                        "replace or join the stored table's, the other rows are kept")
     args = parser.parse_args(argv)
     models = ["adami", "dbc", "ghost-shepard"] if args.quick else MODELS
     if args.models:
@@ -81,7 +93,15 @@ def main(argv=None):
             "collapse_escaped": c["escaped"], "collapse_min_wall_distance_dx": c["min_wall_distance_dx"],
             "cost_relative_to_adami": (base / c["particle_steps_per_s"]) if base and c["particle_steps_per_s"] else None,
         })
-    with open(os.path.join(OUT, "wall_model_table.csv"), "w", newline="") as fh:
+    csv_path = os.path.join(OUT, "wall_model_table.csv")
+    if args.models and os.path.exists(csv_path):
+        # a subset updates the stored table: its rows replace (or join) the stored ones, in the stored order
+        with open(csv_path, newline="") as fh:
+            stored = list(csv.DictReader(fh))
+        new = {r["model"]: r for r in rows}
+        merged = [new.pop(r["model"], None) or {k: _parse(v) for k, v in r.items()} for r in stored]
+        rows = merged + [r for r in rows if r["model"] in new]
+    with open(csv_path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
