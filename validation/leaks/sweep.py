@@ -75,6 +75,8 @@ def _worker(model, dx, t_end, params, out, threads, queue):
         sim.add(MinWallDistance(), every=case.probe_every)
         run_dir = os.path.join(out, _key(model, params).replace(" ", "_"))
         os.makedirs(run_dir, exist_ok=True)
+        plateau = _plateau_module()
+        plateau.add_probes(sim, H, dx, snapshots=os.path.join(run_dir, "plateau_snapshots.npz"))
         started = time.perf_counter()
         error = ""
         try:
@@ -105,6 +107,8 @@ def _worker(model, dx, t_end, params, out, threads, queue):
             "wall_time_s": (time.perf_counter() - started) if status != "completed"
             else summary.get("wall_time_s", 0.0) - summary.get("startup_s", 0.0),
             "reflections": int(reflections), "params": params,
+            # the plateau profile on the downstream wall (validation/dam-break/plateau_profiles.py)
+            "plateau": plateau.plateau_means(times, res.probes, H, rho0=case_rho0(sim)),
         }
         with open(os.path.join(run_dir, "summary.json"), "w") as fh:
             json.dump(summary, fh, indent=1, default=str)
@@ -112,6 +116,21 @@ def _worker(model, dx, t_end, params, out, threads, queue):
         rec = {"model": model, "status": "crashed", "t_stop": None, "t_end": t_end,
                "error": f"{type(exc).__name__}: {exc}", "params": params}
     queue.put(rec)
+
+
+def _plateau_module():
+    """validation/dam-break/plateau_profiles.py (its folder name is not a package name)."""
+    import importlib.util
+
+    path = os.path.join(ROOT, "validation", "dam-break", "plateau_profiles.py")
+    spec = importlib.util.spec_from_file_location("plateau_profiles", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def case_rho0(sim):
+    return float(sim.fluid.rho0) if hasattr(sim.fluid, "rho0") else 1000.0
 
 
 def _key(model, params):
@@ -292,6 +311,10 @@ def main(argv=None):
         print(f"[leaks] {model}: {rec['status']} t = {rec.get('t_stop')} escaped = {rec.get('escaped')} "
               f"(wall {rec.get('escaped_wall')}) min distance = {rec.get('min_wall_distance_dx')} dx "
               f"{rec.get('error', '')}", flush=True)
+        # read again before saving: another sweep process may have stored its models meanwhile
+        fresh = load(args.resolution)
+        if fresh.get("t_star") == data["t_star"] and fresh.get("threads") == data["threads"]:
+            data["models"] = fresh.get("models", {})
         data["models"][_key(model, params)] = rec
         save(args.resolution, data)
         write_doc()
