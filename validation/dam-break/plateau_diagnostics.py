@@ -84,15 +84,31 @@ def table(readouts=("wall", "force", "int1.6", "layer")):
     return "\n".join(lines)
 
 
+def write_doc():
+    doc = os.path.join(ROOT, "docs", "validation-notes.md")
+    begin, end = "<!-- plateau-diagnostics:begin -->", "<!-- plateau-diagnostics:end -->"
+    with open(doc) as fh:
+        text = fh.read()
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    with open(doc, "w") as fh:
+        fh.write(head + begin + "\n" + table() + "\n" + end + tail)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("names", nargs="*")
     parser.add_argument("--list", action="store_true")
     parser.add_argument("--table", action="store_true", help="print the markdown table of the stored variants")
+    parser.add_argument("--write-doc", action="store_true",
+                        help="write the table into docs/validation-notes.md between its markers")
     parser.add_argument("--t-star", type=float, default=T_STAR, help=f"end time t sqrt(g/H) (default {T_STAR})")
     args = parser.parse_args(argv)
     if args.table:
         print(table())
+        return 0
+    if args.write_doc:
+        write_doc()
         return 0
     if args.list or not args.names:
         for k, (m, p, n, what) in VARIANTS.items():
