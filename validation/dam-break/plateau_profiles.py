@@ -337,6 +337,9 @@ def plot(stored, path):
     import matplotlib.pyplot as plt
 
     res = sorted(stored)
+    keys = sorted({k for n in res for k in stored[n]["models"]})
+    cmap = plt.get_cmap("tab20")
+    colour = {k: cmap(i % 20) for i, k in enumerate(keys)}
     fig, axes = plt.subplots(len(res), 2, figsize=(10.4, 4.6 * len(res)), squeeze=False)
     for row, n in enumerate(res):
         for ax, ro in zip(axes[row], ("wall", "force")):
@@ -344,8 +347,11 @@ def plot(stored, path):
                 vals = [(r["plateau"].get(ro) or {}).get(f"{f:g}") for f in HEIGHTS]
                 if any(v is None for v in vals):
                     continue
-                noslip = "noslip" in key
-                ax.plot(vals, HEIGHTS, "--" if noslip else "-", marker="o", ms=3, label=key)
+                # a run stopped inside the window averages over its part only: drawn dotted
+                cut = r["status"] != "completed"
+                style = ":" if cut else ("--" if "noslip" in key else "-")
+                ax.plot(vals, HEIGHTS, style, marker="o", ms=3, color=colour[key],
+                        label=key + (" (stopped)" if cut else ""))
             ax.set_xlabel(f"plateau p / (rho g H), read-out: {ro}")
             ax.set_ylabel("y / H")
             ax.set_title(f"downstream wall, H/{n}, t* {WINDOW[0]:g}-{WINDOW[1]:g}", fontsize=9)

@@ -18,7 +18,11 @@ sampled at the case's probe interval. Per model it records:
   run in particle spacings (negative: behind the wall surface), and the time
   ``t_min_wall_distance`` at which it was sampled;
 * ``wall_time_s`` -- time stepping only, without start-up and compilation;
-  ``steps``.
+  ``steps``;
+* ``plateau`` -- the plateau profile on the downstream wall (issue 15, item 7): the probes of
+  ``validation/dam-break/plateau_profiles.py`` are added to every run and their means over
+  3 <= t sqrt(g/H) <= 5.5 kept here (that script tabulates them; the run directory also gets
+  ``plateau_snapshots.npz``, the particles at t sqrt(g/H) = 3.5, 4, 4.5, 5).
 
 Results are kept per resolution in ``validation/leaks/results_H<N>.json`` (a run of a
 subset of models replaces only those models' entries) and ``.csv``; the markdown
@@ -108,7 +112,7 @@ def _worker(model, dx, t_end, params, out, threads, queue):
             else summary.get("wall_time_s", 0.0) - summary.get("startup_s", 0.0),
             "reflections": int(reflections), "params": params,
             # the plateau profile on the downstream wall (validation/dam-break/plateau_profiles.py)
-            "plateau": plateau.plateau_means(times, res.probes, H, rho0=case_rho0(sim)),
+            "plateau": plateau.plateau_means(times, res.probes, H, rho0=float(sim.fluid.rho0)),
         }
         with open(os.path.join(run_dir, "summary.json"), "w") as fh:
             json.dump(summary, fh, indent=1, default=str)
@@ -127,10 +131,6 @@ def _plateau_module():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
-
-
-def case_rho0(sim):
-    return float(sim.fluid.rho0) if hasattr(sim.fluid, "rho0") else 1000.0
 
 
 def _key(model, params):
