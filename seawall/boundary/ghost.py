@@ -40,9 +40,9 @@ mirror ([Huang2019] sec. 2.2):
   (For a 90-degree corner this is exact: the image of the corner flow
   u = -k x, v = k y, or of any flow symmetric about both faces, under the
   two reflections. The reflection in the plane normal to the diagonal
-  swaps the components instead, u_G = (v, u) for a 45-degree diagonal:
-  the corner ghosts then carry the wrong velocity, measured to over-press
-  the corner of the dam break, docs/validation-notes.md.)
+  swaps the components instead, u_G = (v, u) for a 45-degree diagonal.
+  Its effect on the dam break's corner pressure: docs/validation-notes.md,
+  plateau profiles; it did not remove the ghost walls' corner over-pressure.)
 
 ``interact`` adds the ghosts' terms to the fluid's rates; ghost particles
 enter the fluid's equations as ordinary neighbours (Marrone et al. 2011,
