@@ -31,7 +31,18 @@ mirror ([Huang2019] sec. 2.2):
 * density: rho_G = EOS^-1(p_G); mass: the hydrodynamic mass rho0 dx^d.
 * velocity, relative to the wall's own velocity v_w (u = v_M - v_w):
   free slip reverses the normal component, u_G = u - 2 (u . n) n; no slip
-  reverses both, u_G = -u; then v_G = v_w + u_G.
+  reverses both, u_G = -u; then v_G = v_w + u_G. A ghost beyond a corner
+  (its closest surface point is a vertex or an edge, :func:`corner_tangents`)
+  is the image of its mirror point under the reflections in *every* face it
+  lies beyond, not in the plane normal to its diagonal ``n``: free slip
+  reverses every component across those faces, u_G = -u in a 2D corner or
+  at a 3D vertex, u_G = -u + 2 (u . t) t along a 3D edge of direction t.
+  (For a 90-degree corner this is exact: the image of the corner flow
+  u = -k x, v = k y, or of any flow symmetric about both faces, under the
+  two reflections. The reflection in the plane normal to the diagonal
+  swaps the components instead, u_G = (v, u) for a 45-degree diagonal.
+  Its effect on the dam break's corner pressure: docs/validation-notes.md,
+  plateau profiles; it did not remove the ghost walls' corner over-pressure.)
 
 ``interact`` adds the ghosts' terms to the fluid's rates; ghost particles
 enter the fluid's equations as ordinary neighbours (Marrone et al. 2011,
@@ -65,11 +76,52 @@ from .interpolation import (INTERPOLATIONS, Interpolation, interpolate_points)
 SLIP_MODES = ("free", "noslip")
 
 
+def corner_tangents(positions, surface_points, spacing):
+    """Which ghosts lie beyond a corner, and the corner's edge direction.
+
+    The ghosts whose closest surface point is the same point s are grouped; their
+    offsets x - s span a line for a face point (the normal), a plane at a 3D edge
+    (normal to the edge) and the whole space at a 2D corner or a 3D vertex. Returns
+    ``corner`` (int8, 1 where the span has more than one dimension) and ``tangent``
+    (unit edge direction at a 3D edge, zero otherwise), the data of the free-slip
+    image at corners (module doc).
+    """
+    x = np.asarray(positions, dtype=np.float64)
+    s = np.asarray(surface_points, dtype=np.float64)
+    n, dim = x.shape
+    corner = np.zeros(n, dtype=np.int8)
+    tangent = np.zeros((n, dim))
+    if n == 0:
+        return corner, tangent
+    keys = np.round(s / (1e-6 * spacing)).astype(np.int64)
+    _, group = np.unique(keys, axis=0, return_inverse=True)
+    group = group.ravel()
+    order = np.argsort(group, kind="stable")
+    bounds = np.r_[0, np.nonzero(np.diff(group[order]))[0] + 1, n]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        idx = order[a:b]
+        off = x[idx] - s[idx]
+        norms = np.linalg.norm(off, axis=1)
+        off = off[norms > 1e-9 * spacing] / norms[norms > 1e-9 * spacing][:, None]
+        if off.shape[0] < 2:
+            continue
+        sv, vt = np.linalg.svd(off, full_matrices=True)[1:]
+        rank = int(np.sum(sv > 1e-6 * sv[0]))
+        if rank < 2:
+            continue
+        corner[idx] = 1
+        if dim == 3 and rank == 2:
+            tangent[idx] = vt[2]
+    return corner, tangent
+
+
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm, noslip, pg, rhog, vg):
+def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm, noslip, pg, rhog, vg,
+                   corner, tangent):
     """Laws of mirror ([Huang2019] sec. 2.2): ghost p, rho, v from the values interpolated at the mirror points.
 
-    ``interp[:, 0]`` is the pressure, ``interp[:, 1:]`` the velocity at x_M.
+    ``interp[:, 0]`` is the pressure, ``interp[:, 1:]`` the velocity at x_M. ``corner`` and
+    ``tangent`` (:func:`corner_tangents`) give the free-slip image of the ghosts beyond a corner.
     A ghost whose mirror point has no fluid neighbour gets the background
     pressure, rho0 and the wall velocity.
     """
@@ -101,6 +153,14 @@ def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm,
             vg[b, 1] = vw1 - u1
             if dim == 3:
                 vg[b, 2] = vw2 - u2
+        elif corner[b] != 0:
+            # the reflections in every face the ghost lies beyond: all components across them reversed
+            t0, t1, t2 = point_of(tangent, b, dim)
+            ut = 2.0 * (u0 * t0 + u1 * t1 + u2 * t2)
+            vg[b, 0] = vw0 - u0 + ut * t0
+            vg[b, 1] = vw1 - u1 + ut * t1
+            if dim == 3:
+                vg[b, 2] = vw2 - u2 + ut * t2
         else:
             n0, n1, n2 = point_of(normal, b, dim)
             un = 2.0 * (u0 * n0 + u1 * n1 + u2 * n2)
@@ -343,6 +403,9 @@ class GhostParticles(WallModel):
         pa["m"] = np.full(n, physics.rho0 * fluid.spacing ** wall.dim)
         pa["v_ghost"] = pa["v"].copy()
         pa["n_interp"] = np.zeros(n, dtype=np.int64)
+        corner, tangent = corner_tangents(pa["x"], pa["surface"], wall.spacing)
+        pa["corner"] = corner
+        pa["corner_tangent"] = np.ascontiguousarray(tangent)
         self._buf = np.zeros((n, 1 + wall.dim))
 
     def update(self, wall, fluid, ctx):
@@ -360,7 +423,8 @@ class GhostParticles(WallModel):
                            ctx.fluid_cells.start, ctx.fluid_cells.order, g.lo, g.inv_cell, g.ncell, g.period,
                            ctx.physics, self._buf, pa["n_interp"])
         ghost_transfer(g.layout, pa["x"], pa["mirror"], pa["normal"], pa["v"], pa["a"], self._buf,
-                       pa["n_interp"], ctx.physics, self.slip == "noslip", pa["p"], pa["rho"], pa["v_ghost"])
+                       pa["n_interp"], ctx.physics, self.slip == "noslip", pa["p"], pa["rho"], pa["v_ghost"],
+                       pa["corner"], pa["corner_tangent"])
 
     def interact(self, fluid, wall, ctx, dv, drho):
         ghost_forces(fluid_view(fluid.particles), wall_view(wall.particles, v="v_ghost"),

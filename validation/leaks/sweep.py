@@ -18,7 +18,11 @@ sampled at the case's probe interval. Per model it records:
   run in particle spacings (negative: behind the wall surface), and the time
   ``t_min_wall_distance`` at which it was sampled;
 * ``wall_time_s`` -- time stepping only, without start-up and compilation;
-  ``steps``.
+  ``steps``;
+* ``plateau`` -- the plateau profile on the downstream wall (issue 15, item 7): the probes of
+  ``validation/dam-break/plateau_profiles.py`` are added to every run and their means over
+  3 <= t sqrt(g/H) <= 5.5 kept here (that script tabulates them; the run directory also gets
+  ``plateau_snapshots.npz``, the particles at t sqrt(g/H) = 3.5, 4, 4.5, 5).
 
 Results are kept per resolution in ``validation/leaks/results_H<N>.json`` (a run of a
 subset of models replaces only those models' entries) and ``.csv``; the markdown
@@ -75,6 +79,8 @@ def _worker(model, dx, t_end, params, out, threads, queue):
         sim.add(MinWallDistance(), every=case.probe_every)
         run_dir = os.path.join(out, _key(model, params).replace(" ", "_"))
         os.makedirs(run_dir, exist_ok=True)
+        plateau = _plateau_module()
+        plateau.add_probes(sim, H, dx, snapshots=os.path.join(run_dir, "plateau_snapshots.npz"))
         started = time.perf_counter()
         error = ""
         try:
@@ -105,6 +111,8 @@ def _worker(model, dx, t_end, params, out, threads, queue):
             "wall_time_s": (time.perf_counter() - started) if status != "completed"
             else summary.get("wall_time_s", 0.0) - summary.get("startup_s", 0.0),
             "reflections": int(reflections), "params": params,
+            # the plateau profile on the downstream wall (validation/dam-break/plateau_profiles.py)
+            "plateau": plateau.plateau_means(times, res.probes, H, rho0=float(sim.fluid.rho0)),
         }
         with open(os.path.join(run_dir, "summary.json"), "w") as fh:
             json.dump(summary, fh, indent=1, default=str)
@@ -112,6 +120,17 @@ def _worker(model, dx, t_end, params, out, threads, queue):
         rec = {"model": model, "status": "crashed", "t_stop": None, "t_end": t_end,
                "error": f"{type(exc).__name__}: {exc}", "params": params}
     queue.put(rec)
+
+
+def _plateau_module():
+    """validation/dam-break/plateau_profiles.py (its folder name is not a package name)."""
+    import importlib.util
+
+    path = os.path.join(ROOT, "validation", "dam-break", "plateau_profiles.py")
+    spec = importlib.util.spec_from_file_location("plateau_profiles", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
 
 
 def _key(model, params):
@@ -292,6 +311,10 @@ def main(argv=None):
         print(f"[leaks] {model}: {rec['status']} t = {rec.get('t_stop')} escaped = {rec.get('escaped')} "
               f"(wall {rec.get('escaped_wall')}) min distance = {rec.get('min_wall_distance_dx')} dx "
               f"{rec.get('error', '')}", flush=True)
+        # read again before saving: another sweep process may have stored its models meanwhile
+        fresh = load(args.resolution)
+        if fresh.get("t_star") == data["t_star"] and fresh.get("threads") == data["threads"]:
+            data["models"] = fresh.get("models", {})
         data["models"][_key(model, params)] = rec
         save(args.resolution, data)
         write_doc()
