@@ -16,7 +16,8 @@ distance d to it is below ``layers * dx`` is a wall particle of layer
 On a face aligned with the lattice this is exactly the tank's layering (layer L
 at (L + 1/2) dx); at edges and corners the normals are diagonal, as the tank's.
 Repulsive models (``layout = "surface"``) get one row on the surface: the
-first layer of a lattice of spacing dx / beta projected onto the surface.
+first layer of a lattice of spacing dx / beta behind the surface projected onto
+it, plus a row along convex edges and corners.
 
 Inside/behind is decided exactly from the closest surface feature with the
 angle-weighted pseudonormal [Baerentzen2005]; closest points on triangles
@@ -363,10 +364,12 @@ class TriangleMesh:
             rim[:, code] = open_edge[rows]
         return normals, rim
 
-    def nearest_in_band(self, dx, band, origin):
+    def nearest_in_band(self, dx, band, origin, *, ties=False):
         """For every lattice point closer than ``band`` to the surface: its lattice index (n, 3),
-        position, closest surface point, distance and the signed side (> 0 in front of the faces,
-        < 0 behind them, 0 beyond the open rim). One compiled pass, cost linear in the band."""
+        position, closest surface point, distance, the signed side (> 0 in front of the faces,
+        < 0 behind them, 0 beyond the open rim) and the closest feature's code (face, vertex or
+        edge). One compiled pass, cost linear in the band. ``ties``: every closest point of a
+        lattice point equidistant from several faces (one row per point otherwise)."""
         origin = np.asarray(origin, dtype=np.float64)
         fill_args = (np.empty((0, 3), np.int64), np.empty(0, np.int64), np.empty(0), np.empty(0, np.int64),
                      np.empty((0, 3)))
@@ -378,19 +381,22 @@ class TriangleMesh:
         feat = np.empty(count, np.int64)
         foot = np.empty((count, 3))
         _band_pairs(self.vertices, self.faces, origin, dx, band, True, idx, tri, dist, feat, foot)
-        if count == 0:
-            return idx, np.empty((0, 3)), foot, dist, np.empty(0)
         # the nearest triangle of every lattice point (ties: any of them, the pseudonormal agrees)
         order = np.lexsort((dist, idx[:, 2], idx[:, 1], idx[:, 0]))
         idx, tri, dist, feat, foot = idx[order], tri[order], dist[order], feat[order], foot[order]
         first = np.ones(count, dtype=bool)
         first[1:] = np.any(idx[1:] != idx[:-1], axis=1)
-        idx, tri, dist, feat, foot = idx[first], tri[first], dist[first], feat[first], foot[first]
+        if ties:
+            group = np.cumsum(first) - 1
+            keep = dist <= dist[first][group] + 1e-9 * dx
+        else:
+            keep = first
+        idx, tri, dist, feat, foot = idx[keep], tri[keep], dist[keep], feat[keep], foot[keep]
         pos = origin + (idx + 0.5) * dx
         normals, rim = self._feature_normals()
-        side = np.einsum("ij,ij->i", pos - foot, normals[tri, feat])
+        side = np.einsum("ij,ij->i", pos - foot, normals[tri, feat]) if count else np.empty(0)
         side[rim[tri, feat]] = 0.0     # beyond an open edge: neither in front nor behind
-        return idx, pos, foot, dist, side
+        return idx, pos, foot, dist, side, feat
 
 
 def _require_trimesh(label):
@@ -542,14 +548,24 @@ def mesh_wall(mesh, dx, layers=3, *, fluid="outside", origin=None, layout="layer
     origin = _origin(origin, 3)
     if layout == "surface":
         spacing = dx / require_positive("beta", beta)
-        _, pos, foot, dist, side = mesh.nearest_in_band(spacing, spacing, origin)
-        keep = (side < 0.0) & (dist > 1e-9 * spacing)
-        pos, foot, dist = pos[keep], foot[keep], dist[keep]
-        normals = (foot - pos) / dist[:, None]
+        # the first layer of a lattice of spacing dx / beta, projected onto the surface (onto every
+        # face a point is equally near to); at convex edges and corners, where that layer thins out,
+        # the lattice points in front whose closest point is the edge or corner add its row
+        _, pos, foot, dist, side, feat = mesh.nearest_in_band(spacing, spacing, origin, ties=True)
+        tol = 1e-9 * spacing
+        behind = (side < 0.0) & (dist > tol)
+        edge_row = (side > 0.0) & (feat != _FACE) & (dist > tol)
+        keep = behind | edge_row
+        pos, foot, dist, behind = pos[keep], foot[keep], dist[keep], behind[keep]
+        normals = np.where(behind[:, None], foot - pos, pos - foot) / dist[:, None]
+        # one particle per surface point (a corner is reached from several lattice points)
+        _, first = np.unique(np.round(foot / (1e-6 * spacing)).astype(np.int64), axis=0, return_index=True)
+        first = np.sort(first)
+        foot, normals = foot[first], normals[first]
         shape = Shape(foot, spacing, normals=normals, surface_points=foot.copy(),
                       layer=np.zeros(foot.shape[0], dtype=np.int64))
     elif layout == "layers":
-        _, pos, foot, dist, side = mesh.nearest_in_band(dx, layers * dx, origin)
+        _, pos, foot, dist, side, _ = mesh.nearest_in_band(dx, layers * dx, origin)
         keep = (side < 0.0) & (dist > 1e-9 * dx)
         pos, foot, dist = pos[keep], foot[keep], dist[keep]
         layer = np.minimum(np.floor(dist / dx + 1e-9).astype(np.int64), layers - 1)
@@ -644,7 +660,7 @@ def fill_mesh(mesh, dx, *, clearance=None, origin=None, walls=()) -> Shape:
     idx = np.stack([ii, jj, kk], axis=1) + ilo
     pos = origin + (idx + 0.5) * dx
     if c > 0.0 and pos.shape[0]:
-        near_idx, _, _, near_d, _ = mesh.nearest_in_band(dx, c, origin)
+        near_idx, _, _, near_d, _, _ = mesh.nearest_in_band(dx, c, origin)
         close = near_idx[near_d < c * (1.0 - 1e-9)]
         close = close[np.all((close >= ilo) & (close <= ihi), axis=1)]   # the others are no fill point
         if close.shape[0]:
