@@ -241,3 +241,31 @@ def test_fill_overlapping_a_wall_is_refused():
     with pytest.raises(ParameterError, match="polygon: the fluid fill overlaps wall floor"):
         fill_polygon([(0, -0.2), (1, -0.2), (1, 0.5), (0, 0.5)], DX,
                      walls=[("floor", shapes.tank([0, 0], [1, 1], DX, 3))])
+
+
+# -- seawall geometry ------------------------------------------------------------------------------
+
+def test_geometry_command_writes_the_wall_as_vtu(tmp_path, capsys):
+    from seawall.cli import main
+    from seawall.io.vtk import read_vtu
+
+    path = write_stl(tmp_path / "pillar.stl", box_mesh([0.5, 0.2, 0.0], [0.7, 0.4, 0.5]))
+    out = tmp_path / "pillar.vtu"
+    assert main(["geometry", str(path), "--dx", "0.05", "--layers", "2", "--out", str(out)]) == 0
+    line = capsys.readouterr().out.strip()
+    assert line.endswith(f"{4 * 4 * 10} wall particles in 2 layers -> {out}")   # 4 cells wide: all of it
+    points, fields = read_vtu(out)
+    wall = mesh_wall(path, 0.05, 2)
+    assert np.allclose(points, wall.positions)
+    assert np.allclose(fields["normal"], wall.normals) and np.array_equal(fields["layer"], wall.layer)
+
+
+def test_geometry_command_bad_mesh_is_one_line_and_exit_2(tmp_path, capsys):
+    from seawall.cli import main
+
+    path = write_stl(tmp_path / "tank.stl", box_mesh([0, 0, 0], [1, 1, 1], open_top=True))
+    assert main(["geometry", str(path), "--dx", "0.1", "--fluid", "inside"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("seawall: error: mesh file") and "tank.stl: inverted normals" in err and "\n" not in err
+    assert main(["geometry", str(tmp_path / "none.obj"), "--dx", "0.1"]) == 2
+    assert "none.obj: no such file" in capsys.readouterr().err

@@ -15,13 +15,13 @@ from seawall.meshes import box_mesh, write_stl
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
-TANK = ([0.0, 0.0, 0.0], [0.8, 0.4, 0.8])        # interior [m], open at the top
+TANK = ([0.0, 0.0, 0.0], [0.8, 0.4, 0.6])        # interior [m], closed (the run-up would jump an open top)
 PILLAR = ([0.5, 0.15, 0.0], [0.6, 0.25, 0.5])     # standing on the floor
 COLUMN = ([0.0, 0.0, 0.0], [0.3, 0.4, 0.3])       # the water at t = 0
 
 
 def main(folder=HERE):
-    paths = [write_stl(os.path.join(folder, "tank.stl"), box_mesh(*TANK, inward=True, open_top=True), "tank"),
+    paths = [write_stl(os.path.join(folder, "tank.stl"), box_mesh(*TANK, inward=True), "tank"),
              write_stl(os.path.join(folder, "pillar.stl"), box_mesh(*PILLAR), "pillar"),
              write_stl(os.path.join(folder, "column.stl"), box_mesh(*COLUMN), "column")]
     for path in paths:
