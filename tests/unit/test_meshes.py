@@ -1,6 +1,7 @@
 """seawall.meshes: walls and fills from STL/OBJ meshes and 2D polygons, and their checks."""
 
 import math
+import re
 import sys
 
 import numpy as np
@@ -269,3 +270,23 @@ def test_geometry_command_bad_mesh_is_one_line_and_exit_2(tmp_path, capsys):
     assert err.startswith("seawall: error: mesh file") and "tank.stl: inverted normals" in err and "\n" not in err
     assert main(["geometry", str(tmp_path / "none.obj"), "--dx", "0.1"]) == 2
     assert "none.obj: no such file" in capsys.readouterr().err
+
+
+def test_toml_wall_tables_are_checked(tmp_path):
+    from seawall.cases.toml_case import case_from_toml
+
+    base = '[parameters]\ndx = 0.1\n[[water]]\nlo = [0, 0, 0]\nhi = [0.3, 0.3, 0.3]\n'
+    cases = {
+        '[[wall]]\nname = "pillar"\n': "[[wall]] number 1 needs file",
+        '[[wall]]\nfile = "p.stl"\nfluid = "above"\n': "fluid must be 'outside'",
+        '[[wall]]\nfile = "p.stl"\n[[wall]]\nfile = "p.stl"\n': "name 'p' is taken",
+        '[tank]\nlo = [0, 0]\nhi = [1, 1]\n[[wall]]\nfile = "p.stl"\n': "mesh walls are 3D",
+    }
+    for extra, message in cases.items():
+        path = tmp_path / "case.toml"
+        path.write_text(base + extra)
+        with pytest.raises(ParameterError, match=rf"case file .*case\.toml: .*{re.escape(message)}"):
+            case_from_toml(str(path))
+    path.write_text('[parameters]\ndx = 0.1\n[[wall]]\nfile = "p.stl"\n[[water]]\nfile = "c.stl"\nlo = [0, 0, 0]\n')
+    with pytest.raises(ParameterError, match="either file or lo and hi"):
+        case_from_toml(str(path))
