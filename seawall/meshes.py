@@ -619,8 +619,8 @@ def _clearance(clearance, dx):
     return c
 
 
-# an irrational, tiny offset of the vertical test lines (see _column_crossings)
-_SHIFT = np.array([math.sqrt(2.0) - 1.0, math.sqrt(3.0) - 1.0]) * 1e-7
+# an irrational, tiny offset of the test lines, in units of dx (see _column_crossings)
+_SHIFT = np.array([math.sqrt(2.0) - 1.0, math.sqrt(3.0) - 1.0]) * 1e-6
 
 
 def fill_mesh(mesh, dx, *, clearance=None, origin=None, walls=()) -> Shape:
@@ -645,7 +645,7 @@ def fill_mesh(mesh, dx, *, clearance=None, origin=None, walls=()) -> Shape:
         raise ParameterError(f"{mesh.label}: holds no lattice point at dx = {dx:g} m")
     require_memory(f"the fill of {mesh.label} at dx = {dx:g} m", int(np.prod(counts)))
     ni, nj, nk = (int(n) for n in counts)
-    args = (mesh.vertices, mesh.faces, mesh.face_normals, origin, dx, _SHIFT, int(ilo[0]), int(ilo[1]), ni, nj)
+    args = (mesh.vertices, mesh.faces, mesh.face_normals, origin, dx, _SHIFT * dx, int(ilo[0]), int(ilo[1]), ni, nj)
     n = _column_crossings(*args, False, np.empty(0, np.int64), np.empty(0), np.empty(0, np.int64))
     col = np.empty(n, np.int64)
     z = np.empty(n)
@@ -706,7 +706,7 @@ def fill_polygon(points, dx, *, clearance=None, origin=None, walls=(), label="po
     gx, gy = np.meshgrid(*axes, indexing="ij")
     pos = np.stack([gx.ravel(), gy.ravel()], axis=1)
     # winding number by crossings of the horizontal line through each point (shifted off the vertices)
-    y = pos[:, 1] + _SHIFT[1]
+    y = pos[:, 1] + _SHIFT[1] * dx
     wind = np.zeros(pos.shape[0], dtype=np.int64)
     for a, b in zip(closed[:-1], closed[1:]):
         if a[1] == b[1]:

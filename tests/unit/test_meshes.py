@@ -290,3 +290,22 @@ def test_toml_wall_tables_are_checked(tmp_path):
     path.write_text('[parameters]\ndx = 0.1\n[[wall]]\nfile = "p.stl"\n[[water]]\nfile = "c.stl"\nlo = [0, 0, 0]\n')
     with pytest.raises(ParameterError, match="either file or lo and hi"):
         case_from_toml(str(path))
+
+
+def test_sphere_from_trimesh_fill_and_wall(tmp_path):
+    import trimesh                               # in the [test] extra
+    path = tmp_path / "ball.stl"
+    trimesh.creation.icosphere(subdivisions=3, radius=0.5).export(path)
+    mesh = meshes.load_mesh(path)
+    assert mesh.watertight and mesh.signed_volume > 0
+    dx = 0.05
+    fill = fill_mesh(mesh, dx, clearance=0.0)
+    area = 4 * math.pi * 0.5 ** 2
+    # a cell per lattice point inside: the volume within one layer of cells over the surface
+    assert abs(fill.n * dx ** 3 - mesh.signed_volume) <= area * dx / 2
+    clear = fill_mesh(mesh, dx)
+    assert np.linalg.norm(clear.positions, axis=1).max() <= 0.5 - 0.5 * dx + 1e-9
+    wall = mesh_wall(mesh, dx, 3)
+    r = np.linalg.norm(wall.positions, axis=1)
+    assert r.max() < 0.5 and r.min() > 0.5 - 3 * dx - 0.01          # 0.01: the facets sit inside the sphere
+    assert np.all(np.einsum("ij,ij->i", wall.normals, wall.surface_points) > 0)   # outward, into the fluid
