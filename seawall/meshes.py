@@ -52,6 +52,7 @@ __all__ = [
     "fill_mesh",
     "fill_polygon",
     "check_fill_against_walls",
+    "check_wall_junctions",
     "default_clearance",
     "EXTRA_HINT",
 ]
@@ -452,8 +453,9 @@ def _as_mesh(mesh) -> TriangleMesh:
 # Building meshes (tests, examples) and writing STL without trimesh
 # --------------------------------------------------------------------------
 
-def box_mesh(lo, hi, *, inward=False, open_top=False, label="mesh") -> TriangleMesh:
-    """The 12 (10 with ``open_top``) triangles of the box [lo, hi]; normals outward, or inward."""
+def box_mesh(lo, hi, *, inward=False, open_top=False, open_bottom=False, label="mesh") -> TriangleMesh:
+    """The 12 triangles of the box [lo, hi] (2 fewer for each of ``open_top``, ``open_bottom``);
+    normals outward, or inward."""
     lo = np.asarray(lo, dtype=np.float64)
     hi = np.asarray(hi, dtype=np.float64)
     if lo.shape != (3,) or hi.shape != (3,) or not np.all(hi > lo):
@@ -464,7 +466,7 @@ def box_mesh(lo, hi, *, inward=False, open_top=False, label="mesh") -> TriangleM
              "z-": (0, 2, 3, 1), "z+": (4, 5, 7, 6)}
     faces = []
     for name, (a, b, c, d) in quads.items():
-        if open_top and name == "z+":
+        if (open_top and name == "z+") or (open_bottom and name == "z-"):
             continue
         faces += [(a, b, c), (a, c, d)]
     faces = np.array(faces)
@@ -734,9 +736,8 @@ def check_fill_against_walls(fill, walls, clearance, label="fill"):
     ``walls``: Shapes, or (name, Shape) pairs. A fill overlaps a wall when one
     of its particles is closer than ``clearance`` to a wall particle (a fill
     clear of the surface by ``clearance`` never is: the segment to a wall
-    particle, on or behind the surface, crosses it), or lies behind the
-    surface point of its nearest wall particle ((x - s) . n < 0): inside the
-    wall material, possibly between its particles.
+    particle, on or behind the surface, crosses it), or lies inside the wall's
+    material between its particles (:func:`_behind`).
     """
     items = list(walls.items()) if isinstance(walls, dict) else list(walls or ())
     for k, item in enumerate(items, start=1):
@@ -755,19 +756,65 @@ def check_fill_against_walls(fill, walls, clearance, label="fill"):
                                      f"than the clearance {clearance:g} m to it (first at {np.round(p, 6).tolist()})")
         if wall.normals is None or wall.surface_points is None:
             continue
-        reach = max(2.0 * fill.spacing, 2.0 * wall.spacing, clearance)
-        near = _nearest_distances(fill.positions, wall.positions, reach)
-        cand = np.nonzero(np.isfinite(near) & (near < reach))[0]
-        if cand.size == 0:
-            continue
-        # the nearest wall particle of each candidate: a second pass over the few candidates
-        nearest = _nearest_index(fill.positions[cand], wall.positions, near[cand])
-        side = np.einsum("ij,ij->i", fill.positions[cand] - wall.surface_points[nearest], wall.normals[nearest])
-        behind = cand[side < -tol]
+        behind = _behind(fill.positions, wall, tol)
         if behind.size:
             p = fill.positions[behind[0]]
             raise ParameterError(f"{label}: the fluid fill overlaps wall {name}: {behind.size} particles lie inside "
                                  f"the wall (first at {np.round(p, 6).tolist()})")
+
+
+def _behind(points, wall, tol):
+    """Indices of the points inside a wall's material, judged from its particles: within
+    sqrt(d) / 2 spacings of a wall particle (the farthest a point of a region tiled by the
+    particles' cells can be from them) and behind the surface point of the nearest one,
+    (x - s) . n < -tol. The distance gate keeps a point in front of a convex edge, whose nearest
+    particle may belong to the other face, from being taken as behind it."""
+    reach = 0.5 * math.sqrt(wall.dim) * wall.spacing * (1.0 + 1e-9)
+    near = _nearest_distances(points, wall.positions, reach)
+    cand = np.nonzero(near < reach)[0]
+    if cand.size == 0:
+        return cand
+    nearest = _nearest_index(points[cand], wall.positions, near[cand])
+    side = np.einsum("ij,ij->i", points[cand] - wall.surface_points[nearest], wall.normals[nearest])
+    return cand[side < -tol]
+
+
+def check_wall_junctions(meshes_and_walls):
+    """Refuse a mesh with a face covered by another wall (ParameterError, one line).
+
+    ``meshes_and_walls``: (TriangleMesh, name, Shape) triples, the mesh None
+    for walls not made from one (a ``shapes.tank``). A face is covered when
+    its centroid and points near its corners, moved dx / 2 along its normal
+    (towards the fluid), all lie inside another wall: a pillar's foot standing
+    on the floor. Its wall particles would point into the floor: a ghost model
+    mirrors fluid states there, and every model sees a wall surface where there
+    is none. Such faces must be left out of the mesh (a pillar open at its foot).
+    """
+    items = list(meshes_and_walls)
+    for mesh, name, wall in items:
+        if mesh is None:
+            continue
+        v, f = mesh.vertices, mesh.faces
+        centroid = v[f].mean(axis=1)
+        samples = [centroid] + [centroid + 0.8 * (v[f[:, k]] - centroid) for k in range(3)]
+        step = 0.5 * wall.spacing * mesh.face_normals
+        covered_by = [None] * f.shape[0]
+        for _, other_name, other in items:
+            if other is wall or other.normals is None or other.surface_points is None:
+                continue
+            inside = np.ones(f.shape[0], dtype=bool)
+            for pts in samples:
+                hit = np.zeros(f.shape[0], dtype=bool)
+                hit[_behind(pts + step, other, 1e-9 * wall.spacing)] = True
+                inside &= hit
+            for t in np.nonzero(inside)[0]:
+                covered_by[t] = covered_by[t] or other_name
+        bad = [t for t, c in enumerate(covered_by) if c is not None]
+        if bad:
+            c = np.round(centroid[bad[0]], 6).tolist()
+            raise ParameterError(f"{mesh.label}: {len(bad)} faces of wall {name} are covered by wall "
+                                 f"{covered_by[bad[0]]} (first with centre {c}); leave covered faces out "
+                                 "of the mesh (e.g. a pillar open at its foot)")
 
 
 def _nearest_index(query, ref, dist):

@@ -316,17 +316,21 @@ def _build(data, dim, params, wall_model, threads, folder="."):
                                        model=model, name="tank"))
     # mesh walls on the fluid's lattice: origin 0, or the tank's corner when there is a tank
     origin = np.asarray(lo, dtype=float) if lo is not None else np.zeros(3)
+    wall_meshes = [None] * len(wall_systems)
     for k, w in enumerate(data.get("wall", []), start=1):
         name = w.get("name") or os.path.splitext(os.path.basename(w["file"]))[0]
         model = wall_model()
-        shape = meshes.mesh_wall_for_model(model, _mesh_path(folder, w["file"]), dx, kernel, h,
-                                           fluid=w.get("fluid", "outside"), origin=origin)
+        mesh = meshes.load_mesh(_mesh_path(folder, w["file"]))
+        shape = meshes.mesh_wall_for_model(model, mesh, dx, kernel, h, fluid=w.get("fluid", "outside"), origin=origin)
         wall_systems.append(WallSystem(shape, model=model, name=name))
+        wall_meshes.append(mesh)
     wall_shapes = [(w.name, shapes.Shape(w.x, w.spacing, normals=w.particles["normal"] if "normal" in w.particles
                                          else None,
                                          surface_points=w.particles["surface"] if "surface" in w.particles else None))
                    for w in wall_systems]
     mesh_walls = wall_shapes[1:] if tank else wall_shapes
+    if mesh_walls:
+        meshes.check_wall_junctions([(m, n, w) for m, (n, w) in zip(wall_meshes, wall_shapes)])
 
     blocks = []
     fills = []

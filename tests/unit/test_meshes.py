@@ -309,3 +309,27 @@ def test_sphere_from_trimesh_fill_and_wall(tmp_path):
     r = np.linalg.norm(wall.positions, axis=1)
     assert r.max() < 0.5 and r.min() > 0.5 - 3 * dx - 0.01          # 0.01: the facets sit inside the sphere
     assert np.all(np.einsum("ij,ij->i", wall.normals, wall.surface_points) > 0)   # outward, into the fluid
+
+
+def test_a_face_covered_by_another_wall_is_refused():
+    tank = shapes.tank([0.0, 0.0, 0.0], [1.0, 0.6, 0.6], DX, 3, open_top=False)
+    closed = box_mesh([0.5, 0.2, 0.0], [0.7, 0.4, 0.5], label="mesh file pillar.stl")
+    walls = [(None, "tank", tank), (closed, "pillar", mesh_wall(closed, DX, 3))]
+    with pytest.raises(ParameterError, match=r"pillar\.stl: 2 faces of wall pillar are covered by wall tank"):
+        meshes.check_wall_junctions(walls)
+    open_foot = box_mesh([0.5, 0.2, 0.0], [0.7, 0.4, 0.5], open_bottom=True)
+    meshes.check_wall_junctions([(None, "tank", tank), (open_foot, "pillar", mesh_wall(open_foot, DX, 3))])
+    # a tank drawn as a mesh: its floor under the pillar is not all covered, so it stays
+    box = box_mesh([0.0, 0.0, 0.0], [1.0, 0.6, 0.6], inward=True)
+    meshes.check_wall_junctions([(box, "tank", mesh_wall(box, DX, 3, fluid="inside")),
+                                 (open_foot, "pillar", mesh_wall(open_foot, DX, 3))])
+
+
+def test_fill_beside_a_convex_edge_is_not_an_overlap():
+    # fluid dx/2 in front of a pillar's faces, up to its edges: nearest wall particles may belong to
+    # the other face at the edge (the obstacle's medial planes); that is no overlap
+    pillar = mesh_wall(box_mesh([0.5, 0.2, 0.0], [0.7, 0.4, 0.5], open_bottom=True), DX, 3)
+    fill = shapes.block([0.3, 0.0, 0.0], [0.9, 0.6, 0.3], DX)
+    fill = fill.subset(_box_distance(fill.positions, [0.5, 0.2, -1.0], [0.7, 0.4, 0.5]) > 0.0)
+    meshes.check_fill_against_walls(fill, [("pillar", pillar)], 0.5 * DX)
+    assert fill.n == 6 * 6 * 3 - 2 * 2 * 3

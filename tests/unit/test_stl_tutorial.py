@@ -88,6 +88,7 @@ def test_make_stl_writes_the_committed_files(tmp_path):
     ("open", "column.stl: not watertight"),
     ("missing", "pillar.stl: no such file"),
     ("overlap", "the fluid fill overlaps wall pillar"),
+    ("covered", "pillar.stl: 2 faces of wall pillar are covered by wall tank"),
 ])
 def test_case_file_errors_name_the_mesh(tmp_path, problem, message):
     from seawall import meshes
@@ -97,9 +98,12 @@ def test_case_file_errors_name_the_mesh(tmp_path, problem, message):
     work = tmp_path / "case"
     shutil.copytree(FOLDER, work)
     if problem == "inverted":
-        meshes.write_stl(work / "pillar.stl", meshes.box_mesh([0.5, 0.15, 0.0], [0.6, 0.25, 0.5], inward=True))
+        meshes.write_stl(work / "pillar.stl", meshes.box_mesh([0.5, 0.15, 0.0], [0.6, 0.25, 0.5], inward=True,
+                                                              open_bottom=True))
     elif problem == "open":
         meshes.write_stl(work / "column.stl", meshes.box_mesh([0.0, 0.0, 0.0], [0.3, 0.4, 0.3], open_top=True))
+    elif problem == "covered":      # a closed pillar: its foot stands on the floor
+        meshes.write_stl(work / "pillar.stl", meshes.box_mesh([0.5, 0.15, 0.0], [0.6, 0.25, 0.5]))
     elif problem == "missing":
         (work / "pillar.stl").unlink()
     else:
