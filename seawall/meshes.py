@@ -567,7 +567,8 @@ def mesh_wall(mesh, dx, layers=3, *, fluid="outside", origin=None, layout="layer
         shape = Shape(foot, spacing, normals=normals, surface_points=foot.copy(),
                       layer=np.zeros(foot.shape[0], dtype=np.int64))
     elif layout == "layers":
-        _, pos, foot, dist, side, _ = mesh.nearest_in_band(dx, layers * dx, origin)
+        idx, pos, foot, dist, side, _ = mesh.nearest_in_band(dx, layers * dx, origin, ties=True)
+        pos, foot, dist, side = _merge_ties(idx, pos, foot, dist, side)
         keep = (side < 0.0) & (dist > 1e-9 * dx)
         pos, foot, dist = pos[keep], foot[keep], dist[keep]
         layer = np.minimum(np.floor(dist / dx + 1e-9).astype(np.int64), layers - 1)
@@ -579,6 +580,45 @@ def mesh_wall(mesh, dx, layers=3, *, fluid="outside", origin=None, layout="layer
     if shape.n == 0:
         raise ParameterError(f"{mesh.label}: no wall particle at dx = {dx:g} m (the mesh is smaller than the spacing)")
     return shape
+
+
+def _merge_ties(idx, pos, foot, dist, side):
+    """One closest point per lattice point. A point as near to several faces (inside a convex
+    obstacle, on its medial planes: the edge row of a pillar) gets the normal that bisects theirs
+    and, as surface point, the edge or corner they meet at: with m the mean of the distinct unit
+    vectors u_k towards the closest points, n = m / |m| and s = x + d m / |m|^2, at distance
+    d / cos(theta / 2) from x for two faces at angle theta (d sqrt(2) at a right-angled edge,
+    d sqrt(3) at a cube's corner). Each face's own choice would put the fluid in front of the
+    other face behind this particle's surface (negative signed wall distance near a convex edge).
+    Faces at more than 120 degrees (opposite sides of a thin plate) keep the first face's point.
+    Behind only if behind every tied face."""
+    n = idx.shape[0]
+    if n == 0:
+        return pos, foot, dist, side
+    first = np.ones(n, dtype=bool)
+    first[1:] = np.any(idx[1:] != idx[:-1], axis=1)
+    if np.all(first):
+        return pos, foot, dist, side
+    group = np.cumsum(first) - 1
+    starts = np.flatnonzero(first)
+    unit = (foot - pos) / np.maximum(dist, 1e-300)[:, None]
+    # distinct directions only (two triangles of one face give the same closest point)
+    key = np.concatenate([group[:, None], np.round(unit * 1e6).astype(np.int64)], axis=1)
+    _, distinct = np.unique(key, axis=0, return_index=True)
+    use = np.zeros(n, dtype=bool)
+    use[distinct] = True
+    count = np.bincount(group, weights=use, minlength=starts.size)
+    m = np.stack([np.bincount(group, weights=unit[:, k] * use, minlength=starts.size) for k in range(3)], axis=1)
+    m /= count[:, None]
+    d = dist[starts]
+    m2 = np.einsum("ij,ij->i", m, m)
+    # faces that nearly face each other (a point midway in a thin plate, theta > 120 degrees) meet
+    # at no nearby edge: keep the first face's closest point there
+    bisect = m2 >= 0.25
+    surface = foot[starts].copy()
+    surface[bisect] = pos[starts][bisect] + (d[bisect] / m2[bisect])[:, None] * m[bisect]
+    merged_side = np.maximum.reduceat(side, starts)
+    return pos[starts], surface, np.linalg.norm(surface - pos[starts], axis=1), merged_side
 
 
 def mesh_wall_for_model(model, mesh, dx, kernel, h, *, fluid="outside", origin=None) -> Shape:
