@@ -6,8 +6,13 @@ Layout (every table is described in docs/case-files.md)::
     [parameters]  NAME = {default = ..., unit = "m", help = "..."}   (dx is required)
     [fluid]       rho0, c0, alpha, delta, h_factor, cfl      (each also a --set parameter)
     [tank]        lo, hi, open_top                             (the interior box; 2 or 3 coordinates)
-    [[water]]     lo, hi, pressure = "hydrostatic" | "rest"    (one or more blocks)
-    [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force, name, point, axis
+    [[wall]]      file, name, fluid = "outside" | "inside"     (3D walls from STL/OBJ files, seawall.meshes)
+    [[water]]     lo, hi | file, pressure = "hydrostatic" | "rest"   (blocks, or fills of closed meshes)
+    [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force, name, point, axis,
+                  wall
+
+[tank] may be left out when [[wall]] entries bound the water; mesh files are
+found relative to the TOML file.
 
 A number anywhere in [tank], [[water]] and [[probe]] may instead be a string:
 an arithmetic expression over the parameters ("2 * H", "length - 0.1").
@@ -36,9 +41,10 @@ FLUID_KEYS = {
 }
 CASE_KEYS = {"name", "description", "t_end", "output_every", "probe_every", "boundary"}
 TANK_KEYS = {"lo", "hi", "open_top"}
-WATER_KEYS = {"lo", "hi", "pressure"}
+WATER_KEYS = {"lo", "hi", "pressure", "file"}
+WALL_KEYS = {"file", "name", "fluid"}
 PROBE_KINDS = ("wall_pressure", "pressure", "front", "kinetic_energy", "mass", "wall_force")
-PROBE_KEYS = {"kind", "name", "point", "axis", "direction"}
+PROBE_KEYS = {"kind", "name", "point", "axis", "direction", "wall"}
 KINDS = {"float": float, "int": int, "str": str, "bool": bool}
 
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
@@ -176,23 +182,42 @@ class _Geometry:
 
 
 def _check_structure(data):
-    known = {"case", "parameters", "fluid", "tank", "water", "probe"}
+    known = {"case", "parameters", "fluid", "tank", "wall", "water", "probe"}
     unknown = sorted(set(data) - known)
     if unknown:
         raise _Bad(f"unknown table [{unknown[0]}]; the tables: {', '.join(sorted(known))}")
     case = _table(data, "case", CASE_KEYS)
     _table(data, "fluid", FLUID_KEYS)
-    tank = _table(data, "tank", TANK_KEYS, required=True)
-    for key in ("lo", "hi"):
-        if key not in tank:
-            raise _Bad(f"[tank] needs {key}")
+    walls = _array_of_tables(data, "wall", WALL_KEYS)
+    names = {"tank"} if "tank" in data else set()
+    for k, w in enumerate(walls, start=1):
+        if not isinstance(w.get("file"), str):
+            raise _Bad(f"[[wall]] number {k} needs file = \"NAME.stl\" (or .obj)")
+        if w.get("fluid", "outside") not in ("outside", "inside"):
+            raise _Bad(f"[[wall]] number {k}: fluid must be 'outside' (an obstacle) or 'inside' (a container), "
+                       f"got {w['fluid']!r}")
+        name = w.get("name") or os.path.splitext(os.path.basename(w["file"]))[0]
+        if not isinstance(name, str) or name in names:
+            raise _Bad(f"[[wall]] number {k}: name {name!r} is taken or not a string (give name = ...)")
+        names.add(name)
+    tank = _table(data, "tank", TANK_KEYS, required=not walls)
+    if tank:
+        for key in ("lo", "hi"):
+            if key not in tank:
+                raise _Bad(f"[tank] needs {key}")
     waters = _array_of_tables(data, "water", WATER_KEYS)
     if not waters:
         raise _Bad("needs at least one [[water]] block")
     for k, w in enumerate(waters, start=1):
+        if "file" in w:
+            if "lo" in w or "hi" in w:
+                raise _Bad(f"[[water]] number {k}: give either file or lo and hi, not both")
+            if not isinstance(w["file"], str):
+                raise _Bad(f"[[water]] number {k}: file must be a string (a closed .stl or .obj)")
+            continue
         for key in ("lo", "hi"):
             if key not in w:
-                raise _Bad(f"[[water]] number {k} needs {key}")
+                raise _Bad(f"[[water]] number {k} needs {key} (or file)")
         if w.get("pressure", "hydrostatic") not in ("hydrostatic", "rest"):
             raise _Bad(f"[[water]] number {k}: pressure must be 'hydrostatic' or 'rest', got {w['pressure']!r}")
     for k, p in enumerate(_array_of_tables(data, "probe", PROBE_KEYS), start=1):
@@ -217,7 +242,12 @@ def case_from_toml(path):
     try:
         meta = _check_structure(data)
         parameters = {**_parameters(data), **_fluid_parameters(data.get("fluid", {}))}
-        dim = len(data["tank"]["lo"]) if isinstance(data["tank"]["lo"], list) else 0
+        if "tank" not in data:
+            dim = 3                     # mesh walls are 3D
+        else:
+            dim = len(data["tank"]["lo"]) if isinstance(data["tank"]["lo"], list) else 0
+        if "wall" in data and dim != 3:
+            raise _Bad("[[wall]] mesh walls are 3D: the tank needs 3 coordinates")
         if dim not in (2, 3):
             raise _Bad(f"[tank] lo must be a list of 2 or 3 numbers, got {data['tank']['lo']!r}")
         numbers = {}
@@ -238,9 +268,11 @@ def case_from_toml(path):
     except _Bad as exc:
         raise ParameterError(f"case file {path}: {exc}") from None
 
+    folder = os.path.dirname(os.path.abspath(path))
+
     def builder(params, wall_model, threads):
         try:
-            return _build(data, dim, params, wall_model, threads)
+            return _build(data, dim, params, wall_model, threads, folder)
         except _Bad as exc:
             raise ParameterError(f"case file {path}: {exc}") from None
 
@@ -249,8 +281,14 @@ def case_from_toml(path):
                 **numbers)
 
 
-def _build(data, dim, params, wall_model, threads):
-    from .. import probes, shapes
+def _mesh_path(folder, name):
+    return name if os.path.isabs(name) else os.path.join(folder, name)
+
+
+def _build(data, dim, params, wall_model, threads, folder="."):
+    import numpy as np
+
+    from .. import meshes, probes, shapes
     from ..boundary.base import WallSystem
     from ..errors import require_positive
     from ..integrators import Symplectic
@@ -262,58 +300,90 @@ def _build(data, dim, params, wall_model, threads):
     geo = _Geometry(params)
     dx = require_positive("dx", params["dx"])
     h = require_positive("h_factor", params["h_factor"]) * dx
-    tank = data["tank"]
-    lo = geo.point("[tank] lo", tank["lo"], dim)
-    hi = geo.point("[tank] hi", tank["hi"], dim)
-    if not all(b > a for a, b in zip(lo, hi)):
-        raise _Bad(f"[tank] hi {hi} must exceed lo {lo} in every coordinate")
-    # the walls continue the fluid's lattice: the tank's sides are whole multiples of dx
-    hi = [a + snap(b - a, dx) for a, b in zip(lo, hi)]
+    kernel = CubicSpline()
+    tank = data.get("tank")
+    lo = hi = None
+    wall_systems = []
+    if tank:
+        lo = geo.point("[tank] lo", tank["lo"], dim)
+        hi = geo.point("[tank] hi", tank["hi"], dim)
+        if not all(b > a for a, b in zip(lo, hi)):
+            raise _Bad(f"[tank] hi {hi} must exceed lo {lo} in every coordinate")
+        # the walls continue the fluid's lattice: the tank's sides are whole multiples of dx
+        hi = [a + snap(b - a, dx) for a, b in zip(lo, hi)]
+        model = wall_model()
+        wall_systems.append(WallSystem(tank_wall(model, lo, hi, dx, kernel, h, open_top=tank.get("open_top", True)),
+                                       model=model, name="tank"))
+    # mesh walls on the fluid's lattice: origin 0, or the tank's corner when there is a tank
+    origin = np.asarray(lo, dtype=float) if lo is not None else np.zeros(3)
+    wall_meshes = [None] * len(wall_systems)
+    for k, w in enumerate(data.get("wall", []), start=1):
+        name = w.get("name") or os.path.splitext(os.path.basename(w["file"]))[0]
+        model = wall_model()
+        mesh = meshes.load_mesh(_mesh_path(folder, w["file"]))
+        shape = meshes.mesh_wall_for_model(model, mesh, dx, kernel, h, fluid=w.get("fluid", "outside"), origin=origin)
+        wall_systems.append(WallSystem(shape, model=model, name=name))
+        wall_meshes.append(mesh)
+    wall_shapes = [(w.name, shapes.Shape(w.x, w.spacing, normals=w.particles["normal"] if "normal" in w.particles
+                                         else None,
+                                         surface_points=w.particles["surface"] if "surface" in w.particles else None))
+                   for w in wall_systems]
+    mesh_walls = wall_shapes[1:] if tank else wall_shapes
+    if mesh_walls:
+        meshes.check_wall_junctions([(m, n, w) for m, (n, w) in zip(wall_meshes, wall_shapes)])
+
     blocks = []
-    top = 0.0
+    fills = []
     for k, w in enumerate(data["water"], start=1):
+        initial = w.get("pressure", "hydrostatic")
+        if "file" in w:
+            fill = meshes.fill_mesh(_mesh_path(folder, w["file"]), dx, origin=origin, walls=wall_shapes)
+            top = float(fill.positions[:, -1].max() + 0.5 * dx)
+            bottom = float(fill.positions[:, -1].min() - 0.5 * dx)
+            fills.append((fill, top, bottom, initial))
+            continue
         wlo = geo.point(f"[[water]] number {k} lo", w["lo"], dim)
         whi = geo.point(f"[[water]] number {k} hi", w["hi"], dim)
-        if not all(a >= tl - 1e-12 and b <= th + 1e-12 and b > a for a, b, tl, th in zip(wlo, whi, lo, hi)):
+        if tank and not all(a >= tl - 1e-12 and b <= th + 1e-12 and b > a
+                            for a, b, tl, th in zip(wlo, whi, lo, hi)):
             raise _Bad(f"[[water]] number {k}: the block {wlo} - {whi} must lie inside the tank {lo} - {hi}")
+        if not all(b > a for a, b in zip(wlo, whi)):
+            raise _Bad(f"[[water]] number {k}: hi {whi} must exceed lo {wlo} in every coordinate")
         for j, (olo, ohi, _) in enumerate(blocks, start=1):
             if all(a < od - 1e-12 and b > oa + 1e-12 for a, b, oa, od in zip(wlo, whi, olo, ohi)):
                 raise _Bad(f"[[water]] number {k} overlaps [[water]] number {j}")
-        blocks.append((wlo, whi, w.get("pressure", "hydrostatic")))
-        top = max(top, whi[-1] - lo[-1])
+        if mesh_walls:
+            meshes.check_fill_against_walls(shapes.block(wlo, whi, dx), mesh_walls, meshes.default_clearance(dx),
+                                            f"[[water]] number {k}")
+        blocks.append((wlo, whi, initial))
+    floor = lo[-1] if lo is not None else min([b[0][-1] for b in blocks] + [f[2] for f in fills])
+    top = max([b[1][-1] - floor for b in blocks] + [f[1] - floor for f in fills])
     c0 = params["c0"] or 10.0 * (2.0 * GRAVITY * top) ** 0.5
     params["c0"] = c0
-    parts = []
-    for wlo, whi, initial in blocks:
-        block = shapes.block(wlo, whi, dx)
-        depth = whi[-1]
-        pressure = _hydrostatic(depth, params["rho0"], dim) if initial == "hydrostatic" else None
-        parts.append((block, pressure))
-    positions = [b.positions for b, _ in parts]
-    import numpy as np
+    parts = [shapes.block(wlo, whi, dx) for wlo, whi, _ in blocks] + [f[0] for f in fills]
+    x = np.concatenate([p.positions for p in parts])
+    if len(fills) > 1 or len(blocks) > 1 or (fills and blocks):
+        # each block's own hydrostatic column (rest where a block asks for it); fills take their own top
+        columns = [(np.asarray(wlo), np.asarray(whi), whi[-1], initial) for wlo, whi, initial in blocks]
+        columns += [(f[0].positions.min(axis=0) - 1e-9, f[0].positions.max(axis=0) + 1e-9, f[1], f[3])
+                    for f in fills]
 
-    x = np.concatenate(positions) if len(positions) > 1 else positions[0]
-    fluid_shape = shapes.Shape(x, dx)
-    if len(parts) == 1:
-        pressure = parts[0][1]
-    else:
-        # each block's own hydrostatic column (rest where a block asks for it)
         def pressure(pos):
             p = np.zeros(pos.shape[0])
-            for (wlo, whi, initial) in blocks:
+            for cmin, cmax, ctop, initial in columns:
                 if initial != "hydrostatic":
                     continue
-                inside = np.all((pos >= np.asarray(wlo)) & (pos <= np.asarray(whi)), axis=1)
-                p[inside] = params["rho0"] * GRAVITY * np.maximum(whi[-1] - pos[inside, dim - 1], 0.0)
+                inside = np.all((pos >= cmin) & (pos <= cmax), axis=1)
+                p[inside] = params["rho0"] * GRAVITY * np.maximum(ctop - pos[inside, dim - 1], 0.0)
             return p
-    fluid = _fluid(fluid_shape, {**params, "lagged_gradient": True}, c0=c0, pressure=pressure)
-    kernel = CubicSpline()
-    model = wall_model()
-    walls = WallSystem(tank_wall(model, lo, hi, dx, kernel, h, open_top=tank.get("open_top", True)),
-                       model=model, name="tank")
-    sim = Simulation([fluid, walls], kernel=kernel, h=h, gravity=_gravity(dim),
+    else:
+        only_top, initial = (blocks[0][1][-1], blocks[0][2]) if blocks else (fills[0][1], fills[0][3])
+        pressure = _hydrostatic(only_top, params["rho0"], dim) if initial == "hydrostatic" else None
+    fluid = _fluid(shapes.Shape(x, dx), {**params, "lagged_gradient": True}, c0=c0, pressure=pressure)
+    sim = Simulation([fluid, *wall_systems], kernel=kernel, h=h, gravity=_gravity(dim),
                      integrator=Symplectic(cfl=params["cfl"]), threads=threads)
     names = set()
+    wall_names = [w.name for w in wall_systems]
     for k, p in enumerate(data.get("probe", []), start=1):
         kind = p["kind"]
         name = p.get("name") or {"front": "front", "kinetic_energy": "kinetic_energy", "mass": "mass"}.get(kind,
@@ -335,5 +405,8 @@ def _build(data, dim, params, wall_model, threads):
         elif kind == "mass":
             sim.add(probes.TotalMass(name))
         else:
-            sim.add(probes.WallForce(name, "tank", axis=axis))
+            wall = p.get("wall", wall_names[0])
+            if wall not in wall_names:
+                raise _Bad(f"[[probe]] number {k}: no wall named {wall!r}; the walls: {', '.join(wall_names)}")
+            sim.add(probes.WallForce(name, wall, axis=axis))
     return sim
