@@ -78,8 +78,18 @@ class Runner:
         #: set (to the signal's name) to stop the run at the end of the current step (seawall.interrupts)
         self.stop_requested = None
         self.in_step_loop = False
+        self.record_particle_forces = False
+        self.wall_particle_forces = {}
         self._stats = None
         self._startup_s = 0.0
+
+    def _frames_with_walls(self, t_next=None, t_last=None):
+        """Whether a VTU frame with walls is written at t_next (any time if None; always at t_last)."""
+        return any(isinstance(out, VTK) and out.walls and
+                   (t_next is None or out.due(t_next) or t_next >= t_last) for out in self.outputs)
+
+    def record_particle_forces_now(self):
+        """Compute per-particle wall forces for a frame written before any step (Simulation does)."""
 
     # ------------------------------------------------------------------ hooks (defaults)
     def _initialise(self):
@@ -253,6 +263,8 @@ class Runner:
         self._stats["startup"] = startup
         if self.step == 0:
             self._sample(force=True)
+            if self._frames_with_walls():
+                self.record_particle_forces_now()
             for out in self.outputs:
                 if isinstance(out, (VTK, LineSampler)):
                     self._write(out)
@@ -268,7 +280,11 @@ class Runner:
                     break
                 dt = min(self.next_dt, t_end - self.time)
                 n_now = self.particles_per_step()
+                # per-particle wall forces are computed only in a step that ends with a VTU frame
+                self.wall_particle_forces = {}
+                self.record_particle_forces = self._frames_with_walls(self.time + dt, t_end - eps)
                 self._one_step(dt)
+                self.record_particle_forces = False
                 self._stats["particle_steps"] += n_now
                 self._sample()
                 for out in self.outputs:

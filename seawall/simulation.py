@@ -17,6 +17,7 @@ import numpy as np
 from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem, check_contract
 from .coupling import Coupling
+from .boundary.particle_forces import defines_particle_forces, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
@@ -145,6 +146,11 @@ class Simulation(Runner):
         #: wall name -> force of the fluid on it at the last evaluation [N (per m in 2D)]; filled for
         #: the walls a WallForce probe asks about
         self.wall_forces = {}
+        #: force of the fluid on each wall particle (seawall.boundary.particle_forces), recorded at the
+        #: evaluations the runner asks for (record_particle_forces) for the VTU frames
+        self.record_particle_forces = False
+        self.wall_particle_forces = {}
+        self._last_context = None
 
         self.physics = self._compile_physics(g)
         self.grid = self._make_grid(domain, periodic)
@@ -431,6 +437,10 @@ class Simulation(Runner):
                 self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
             else:
                 self._wall_acts(wall, ctx)
+            if self.record_particle_forces and defines_particle_forces(wall):
+                # asked for by the runner when a VTU frame follows this step; scratch arrays only
+                self.wall_particle_forces[wall.name] = particle_forces(self, wall, ctx)
+        self._last_context = ctx
         if self._regularise:
             self._regularisation_sums()
             if self.fluid.transport_velocity is not None:
@@ -439,6 +449,16 @@ class Simulation(Runner):
             coupling.add_rates(self, ctx)
         if self.fluid.density_mode == "summation":
             fp["drho"][:] = 0.0
+
+    def record_particle_forces_now(self):
+        """Record the per-particle wall forces of the last evaluation's state, if no step has moved
+        the particles since (the frame at t = 0, when the rates were computed before the run)."""
+        ctx = self._last_context
+        if ctx is None:
+            return
+        for wall in self.walls:
+            if wall.name not in self.wall_particle_forces and defines_particle_forces(wall):
+                self.wall_particle_forces[wall.name] = particle_forces(self, wall, ctx)
 
     def _wall_acts(self, wall, ctx):
         """The wall model's terms, then the wall's adhesion (if any), added to the fluid's rates."""
