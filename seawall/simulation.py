@@ -10,7 +10,11 @@ repairs -- stops with the step, time and particle, keeping its last good
 checkpoint and everything already written.
 """
 
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -81,10 +85,14 @@ class Simulation(Runner):
         Number of threads of the compiled loops (default: all cores).
     """
 
-    def __init__(self, systems, *, kernel=None, h, gravity=None, integrator=None, domain=None,
-                 periodic=None, reorder_every=20, density_band=(0.5, 2.0), threads=None,
-                 metadata=None, hull="walls", wall_removal_depth="support", unstable_fraction=1e-3,
-                 unstable_window=0.05):
+    def __init__(self, systems: Sequence[FluidSystem | WallSystem | Coupling], *, kernel: Kernel | None = None,
+                 h: float, gravity: Sequence[float] | None = None, integrator: Integrator | None = None,
+                 domain: tuple[Sequence[float], Sequence[float]] | None = None,
+                 periodic: Sequence[bool] | None = None, reorder_every: int = 20,
+                 density_band: tuple[float, float] = (0.5, 2.0), threads: int | None = None,
+                 metadata: dict[str, Any] | None = None, hull: str | tuple | None = "walls",
+                 wall_removal_depth: str | float | None = "support", unstable_fraction: float = 1e-3,
+                 unstable_window: float = 0.05) -> None:
         fluids = [s for s in systems if isinstance(s, FluidSystem)]
         walls = [s for s in systems if isinstance(s, WallSystem)]
         couplings = [s for s in systems if isinstance(s, Coupling)]
