@@ -133,6 +133,9 @@ def build_parser():
                      help="pressure sensor: the wall pressure averaged over a face of the given diameter [m] "
                           "(a segment in 2D; default one kernel support) on the wall at the point; column "
                           "sensor:<k> in probes.csv (repeatable)")
+    run.add_argument("--wall-force", action="append", metavar="NAME",
+                     help="the fluid's force on the wall system NAME: columns wall_force:NAME:fx, :fy[, :fz] in "
+                          "probes.csv [N, per metre of depth in 2D] (repeatable)")
     run.add_argument("--no-vtk", action="store_true", help="write no VTU/PVD files")
     run.add_argument("--vtk-float32", action="store_true",
                      help="VTU floating-point arrays and positions in single precision (about half the size)")
@@ -374,6 +377,8 @@ def cmd_run(args):
 
         point, diameter = parse_sensor(text, sim.dim)
         sim.add(PressureSensor(f"sensor:{k}", point, diameter))
+    for name in args.wall_force or []:
+        _add_wall_force(sim, case, name)
     if args.diagnostics:
         from .compare import MinWallDistance
 
@@ -453,6 +458,19 @@ def cmd_run(args):
     if error:
         print(f"seawall: {'interrupted' if status == 'interrupted' else 'error'}: {error}", file=sys.stderr)
     return code
+
+
+def _add_wall_force(sim, case, name):
+    """--wall-force NAME: one WallForce probe per component of the force on wall NAME."""
+    from .errors import ParameterError
+    from .probes import WallForce
+
+    walls = [w.name for w in getattr(sim, "walls", [])] if hasattr(sim, "fluid") else []
+    if name not in walls:
+        raise ParameterError(f"--wall-force: case {case.name!r} has no wall named {name!r}; its walls: "
+                             + (", ".join(walls) if walls else "none"))
+    for axis, component in enumerate(("fx", "fy", "fz")[:sim.dim]):
+        sim.add(WallForce(f"wall_force:{name}:{component}", name, axis=axis))
 
 
 def _partial_result(sim):

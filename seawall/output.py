@@ -20,7 +20,10 @@ class VTK:
     so the wall pressure during an impact can be followed in ParaView).
     Point data: fluid velocity, pressure, density, mass, id; walls id,
     velocity, pressure and density (where the model keeps them), normals and
-    mirror points (2 x surface point - position, where the model has them).
+    mirror points (2 x surface point - position, where the model has them),
+    ``force``: the fluid's force on each wall particle [N, N/m in 2D], for models
+    that push by one pair force per wall particle (``pairwise_momentum``;
+    :mod:`seawall.boundary.particle_forces`), summing to ``wall_force``.
 
     Pressure convention: ``pressure`` is gauge pressure, p - p_background
     [Pa], in the fluid and wall files alike (the background pressure is 0
@@ -105,6 +108,10 @@ class VTK:
             if "surface" in pa:
                 # where each wall particle's state is read by mirror-point (ghost) models
                 data["mirror_point"] = 2.0 * pa["surface"] - pa["x"]
+            force = getattr(sim, "wall_particle_forces", {}).get(wall.name)
+            if force is not None:
+                # the fluid's force on each wall particle [N, N/m in 2D] (seawall.boundary.particle_forces)
+                data["force"] = force
             model = getattr(wall, "model", None)
             extra = {"wall_force": forces[wall.name]} if wall.name in forces else {}
             series.write(sim.time, pa["x"], data, metadata=self._metadata(sim, f"{getattr(model, 'name', '')} ({type(model).__name__})"),

@@ -17,12 +17,20 @@ means the same thing whatever wall model is used:
 * :class:`KineticEnergy`, :class:`TotalMass`.
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numba import njit
 
 from .errors import ParameterError
 from .kernels import kernel_shape
 from .neighbors import cell_index, neighbour_range, tag_dim, tag_periodic, separation
+
+if TYPE_CHECKING:
+    from .simulation import Simulation
 
 
 @njit(cache=True)
@@ -73,16 +81,18 @@ class Probe:
 
     ``unit``: the unit of the sampled value ("" if none); a force, energy or
     mass of a 2D run is per metre of depth (:func:`probe_unit`).
+    docs/tutorials/your-own-probe.md writes one.
     """
 
-    unit = ""
+    unit: str = ""
 
-    def __init__(self, name):
+    def __init__(self, name: str) -> None:
         if not isinstance(name, str) or not name or "," in name:
             raise ParameterError(f"probe name must be a non-empty string without commas, got {name!r}")
         self.name = name
 
-    def sample(self, sim):
+    def sample(self, sim: Simulation) -> float:
+        """The value now, from ``sim``'s current state."""
         raise NotImplementedError
 
 
@@ -90,7 +100,7 @@ class Probe:
 PER_DEPTH = ("N", "J", "kg")
 
 
-def probe_unit(probe, dim):
+def probe_unit(probe: Probe, dim: int) -> str:
     """The unit of ``probe``'s values in a ``dim``-D run: "N/m" for a 2D force (per metre of depth), ..."""
     unit = getattr(probe, "unit", "") or ""
     return f"{unit}/m" if dim == 2 and unit in PER_DEPTH else unit
@@ -100,7 +110,7 @@ class _PointPressure(Probe):
     hydrostatic = False
     unit = "Pa"
 
-    def __init__(self, name, point):
+    def __init__(self, name: str, point: Sequence[float]) -> None:
         super().__init__(name)
         self.point = np.asarray(point, dtype=np.float64)
         if self.point.ndim != 1 or self.point.size not in (2, 3):
@@ -163,7 +173,7 @@ class PressureSensor(Probe):
 
     unit = "Pa"
 
-    def __init__(self, name, point, diameter=None):
+    def __init__(self, name: str, point: Sequence[float], diameter: float | None = None) -> None:
         super().__init__(name)
         self.point = np.asarray(point, dtype=np.float64)
         if self.point.ndim != 1 or self.point.size not in (2, 3) or not np.all(np.isfinite(self.point)):
@@ -182,7 +192,7 @@ class PressureSensor(Probe):
         self._points = None
         self._weights = None
 
-    def attach(self, sim):
+    def attach(self, sim: Simulation) -> None:
         """Place the face on the wall surface nearest to the point (called by ``Simulation.add``)."""
         from .sampling import face_points
 
@@ -251,7 +261,7 @@ class SurgeFront(Probe):
 
     unit = "m"
 
-    def __init__(self, name="front", axis=0, direction=1):
+    def __init__(self, name: str = "front", axis: int = 0, direction: int = 1) -> None:
         super().__init__(name)
         self.axis = int(axis)
         self.direction = 1 if direction >= 0 else -1
@@ -274,7 +284,7 @@ class WallForce(Probe):
 
     unit = "N"
 
-    def __init__(self, name, wall, axis=0):
+    def __init__(self, name: str, wall: str, axis: int = 0) -> None:
         super().__init__(name)
         self.wall = str(wall)
         self.axis = int(axis)
@@ -288,7 +298,7 @@ class KineticEnergy(Probe):
 
     unit = "J"
 
-    def __init__(self, name="kinetic_energy"):
+    def __init__(self, name: str = "kinetic_energy") -> None:
         super().__init__(name)
 
     def sample(self, sim):
@@ -301,7 +311,7 @@ class TotalMass(Probe):
 
     unit = "kg"
 
-    def __init__(self, name="mass"):
+    def __init__(self, name: str = "mass") -> None:
         super().__init__(name)
 
     def sample(self, sim):

@@ -20,11 +20,14 @@ simulation type subclasses :class:`Runner` and implements small hooks:
 * ``summary(...)`` -- the summary dict from the runner's timings.
 """
 
+from __future__ import annotations
+
 import contextlib
 import math
 import os
 import sys
 import time as _time
+from typing import Any
 
 import numpy as np
 
@@ -78,8 +81,18 @@ class Runner:
         #: set (to the signal's name) to stop the run at the end of the current step (seawall.interrupts)
         self.stop_requested = None
         self.in_step_loop = False
+        self.record_particle_forces = False
+        self.wall_particle_forces = {}
         self._stats = None
         self._startup_s = 0.0
+
+    def _frames_with_walls(self, t_next=None, t_last=None):
+        """Whether a VTU frame with walls is written at t_next (any time if None; always at t_last)."""
+        return any(isinstance(out, VTK) and out.walls and
+                   (t_next is None or out.due(t_next) or t_next >= t_last) for out in self.outputs)
+
+    def record_particle_forces_now(self):
+        """Compute per-particle wall forces for a frame written before any step (Simulation does)."""
 
     # ------------------------------------------------------------------ hooks (defaults)
     def _initialise(self):
@@ -131,7 +144,7 @@ class Runner:
         raise NotImplementedError
 
     # ------------------------------------------------------------------ probes and outputs
-    def add(self, *items, every=None):
+    def add(self, *items: Probe | VTK | Checkpoint | LineSampler, every: float | None = None) -> Runner:
         """Add probes and outputs (:class:`~seawall.output.VTK`, :class:`~seawall.output.Checkpoint`, ...).
 
         ``every`` sets the probe sampling interval [s] (default t_end / 1000).
@@ -189,20 +202,21 @@ class Runner:
             raise InstabilityError(f"time step became {self.next_dt} at step {self.step}, t = {self.time:.6g} s",
                                    step=self.step, time=self.time)
 
-    def run_steps(self, n_steps):
+    def run_steps(self, n_steps: int) -> None:
         """Advance exactly ``n_steps`` steps with no probes or output (benchmarks)."""
         self._initialise()
         for _ in range(int(n_steps)):
             self._one_step(self.next_dt)
 
-    def first_time_step(self):
+    def first_time_step(self) -> float:
         """Make the state ready (compiling the loops) and return the next time step [s]."""
         started = _time.perf_counter()
         self._initialise()
         self._startup_s += _time.perf_counter() - started
         return self.next_dt
 
-    def run(self, t_end, *, progress=True, probe_csv=None, max_steps=None):
+    def run(self, t_end: float, *, progress: bool = True, probe_csv: str | os.PathLike | None = None,
+            max_steps: int | None = None) -> RunResult:
         """Run until simulated time ``t_end`` [s]; return a :class:`RunResult`.
 
         ``probe_csv``: path of a CSV file receiving every probe sample as it
@@ -253,6 +267,8 @@ class Runner:
         self._stats["startup"] = startup
         if self.step == 0:
             self._sample(force=True)
+            if self._frames_with_walls():
+                self.record_particle_forces_now()
             for out in self.outputs:
                 if isinstance(out, (VTK, LineSampler)):
                     self._write(out)
@@ -268,7 +284,11 @@ class Runner:
                     break
                 dt = min(self.next_dt, t_end - self.time)
                 n_now = self.particles_per_step()
+                # per-particle wall forces are computed only in a step that ends with a VTU frame
+                self.wall_particle_forces = {}
+                self.record_particle_forces = self._frames_with_walls(self.time + dt, t_end - eps)
                 self._one_step(dt)
+                self.record_particle_forces = False
                 self._stats["particle_steps"] += n_now
                 self._sample()
                 for out in self.outputs:
@@ -314,7 +334,7 @@ class Runner:
                             particle_steps=stats["particle_steps"], steps=self.step - stats["steps_at_start"],
                             startup=stats["startup"] if loop_start is not None else now - stats["wall_start"])
 
-    def result(self, summary):
+    def result(self, summary: dict[str, Any]) -> RunResult:
         times = np.asarray(self.probe_times, dtype=np.float64)
         values = np.asarray(self.probe_values, dtype=np.float64).reshape(len(self.probe_times), len(self.probes))
         probes = {p.name: values[:, k].copy() for k, p in enumerate(self.probes)}
@@ -366,7 +386,7 @@ class Runner:
                  **self._state_attrs()}
         save_checkpoint(path, arrays, attrs)
 
-    def restart(self, path):
+    def restart(self, path: str | os.PathLike) -> None:
         """Load a checkpoint written by :meth:`save_checkpoint` into this (identically built) simulation."""
         from . import restart_checks as checks
         from .io.checkpoint import load_checkpoint

@@ -10,13 +10,18 @@ repairs -- stops with the step, time and particle, keeping its last good
 checkpoint and everything already written.
 """
 
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem, check_contract
 from .coupling import Coupling
+from .boundary.particle_forces import defines_particle_forces, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
@@ -80,10 +85,14 @@ class Simulation(Runner):
         Number of threads of the compiled loops (default: all cores).
     """
 
-    def __init__(self, systems, *, kernel=None, h, gravity=None, integrator=None, domain=None,
-                 periodic=None, reorder_every=20, density_band=(0.5, 2.0), threads=None,
-                 metadata=None, hull="walls", wall_removal_depth="support", unstable_fraction=1e-3,
-                 unstable_window=0.05):
+    def __init__(self, systems: Sequence[FluidSystem | WallSystem | Coupling], *, kernel: Kernel | None = None,
+                 h: float, gravity: Sequence[float] | None = None, integrator: Integrator | None = None,
+                 domain: tuple[Sequence[float], Sequence[float]] | None = None,
+                 periodic: Sequence[bool] | None = None, reorder_every: int = 20,
+                 density_band: tuple[float, float] = (0.5, 2.0), threads: int | None = None,
+                 metadata: dict[str, Any] | None = None, hull: str | tuple | None = "walls",
+                 wall_removal_depth: str | float | None = "support", unstable_fraction: float = 1e-3,
+                 unstable_window: float = 0.05) -> None:
         fluids = [s for s in systems if isinstance(s, FluidSystem)]
         walls = [s for s in systems if isinstance(s, WallSystem)]
         couplings = [s for s in systems if isinstance(s, Coupling)]
@@ -145,6 +154,11 @@ class Simulation(Runner):
         #: wall name -> force of the fluid on it at the last evaluation [N (per m in 2D)]; filled for
         #: the walls a WallForce probe asks about
         self.wall_forces = {}
+        #: force of the fluid on each wall particle (seawall.boundary.particle_forces), recorded at the
+        #: evaluations the runner asks for (record_particle_forces) for the VTU frames
+        self.record_particle_forces = False
+        self.wall_particle_forces = {}
+        self._last_context = None
 
         self.physics = self._compile_physics(g)
         self.grid = self._make_grid(domain, periodic)
@@ -442,6 +456,10 @@ class Simulation(Runner):
                 self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
             else:
                 self._wall_acts(wall, ctx)
+            if self.record_particle_forces and defines_particle_forces(wall):
+                # asked for by the runner when a VTU frame follows this step; scratch arrays only
+                self.wall_particle_forces[wall.name] = particle_forces(self, wall, ctx)
+        self._last_context = ctx
         if self._regularise:
             self._regularisation_sums()
             if self.fluid.transport_velocity is not None:
@@ -457,6 +475,16 @@ class Simulation(Runner):
             self._scheme_tag = scheme_tag(prm)
             self._scheme_physics = prm
         return self._scheme_tag
+
+    def record_particle_forces_now(self):
+        """Record the per-particle wall forces of the last evaluation's state, if no step has moved
+        the particles since (the frame at t = 0, when the rates were computed before the run)."""
+        ctx = self._last_context
+        if ctx is None:
+            return
+        for wall in self.walls:
+            if wall.name not in self.wall_particle_forces and defines_particle_forces(wall):
+                self.wall_particle_forces[wall.name] = particle_forces(self, wall, ctx)
 
     def _wall_acts(self, wall, ctx):
         """The wall model's terms, then the wall's adhesion (if any), added to the fluid's rates."""

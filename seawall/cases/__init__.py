@@ -1,5 +1,9 @@
 """The named cases, one definition each, shared by the CLI, tests, benchmarks and validation."""
 
+from __future__ import annotations
+
+from typing import Any
+
 from ..errors import ParameterError
 from .base import Case, Parameter, tank_wall
 from .channels import CHANNEL, PIPE_3D
@@ -12,6 +16,7 @@ from .moving import MOVING_WALL
 from .s_cavity import S_CAVITY
 from .tanks import COLLAPSE, DAM_BREAK, DAM_BREAK_3D, HYDROSTATIC
 from .waves import MOVABLE_SEAWALL, SOLITARY_RUNUP, SOLITARY_SEAWALL, SOLITARY_WAVE
+from ..runner import Runner
 
 CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PARTICLE_IN_BOX, DROP_IMPACT, MOVING_WALL,
                                 DEM_BOX, SOLITARY_WAVE, SOLITARY_SEAWALL, SOLITARY_RUNUP, MOVABLE_SEAWALL,
@@ -20,7 +25,7 @@ CASES = {c.name: c for c in (HYDROSTATIC, DAM_BREAK, COLLAPSE, DAM_BREAK_3D, PAR
                                 PLATES, DAM_BREAK_ETSIN)}
 
 
-def case_by_name(name):
+def case_by_name(name: str) -> Case:
     """Return the :class:`Case` called ``name``, or the case of the file ``name`` (``.py`` or ``.toml``)."""
     from .files import is_case_file, load_case_file
 
@@ -33,7 +38,7 @@ def case_by_name(name):
                              f"(or a case file ending in .py or .toml)") from None
 
 
-def build(name, **params):
+def build(name: str, **params: Any) -> Runner:
     """Build case ``name`` (see ``seawall cases``; or a case file's path) and return its Simulation."""
     return case_by_name(name).build(**params)
 

@@ -5,12 +5,16 @@ the validation scripts. ``build(boundary=..., dx=..., **params)`` returns a
 ready :class:`~seawall.Simulation` carrying its probes and metadata.
 """
 
+from __future__ import annotations
+
 import math
 import re
 from dataclasses import dataclass, field
+from typing import Any, Callable
 
 from ..boundary.registry import boundary_by_name, boundary_options
 from ..errors import ParameterError
+from ..runner import Runner
 
 GRAVITY = 9.81
 
@@ -96,7 +100,8 @@ class Case:
         _check_ranges(self.name, params)
         return params
 
-    def build(self, *, boundary=None, threads=None, **overrides):
+    def build(self, *, boundary: str | Callable[..., Any] | None = None, threads: int | None = None,
+              **overrides: Any) -> Runner:
         """Build the simulation with wall model ``boundary`` (a name or a WallModel factory; default
         the case's ``default_boundary``)."""
         if boundary is None:

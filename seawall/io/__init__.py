@@ -2,11 +2,12 @@
 
 from .checkpoint import load_checkpoint, save_checkpoint
 from .csvout import ProbeCSVWriter, read_probes_csv, write_probes_csv
-from .vtk import PVDSeries, read_vtu, write_vtu
+from .vtk import PVDSeries, read_vtu, read_vtu_metadata, write_vtu
 
 __all__ = [
     "write_vtu",
     "read_vtu",
+    "read_vtu_metadata",
     "PVDSeries",
     "save_checkpoint",
     "load_checkpoint",

@@ -78,6 +78,22 @@ def test_run_writes_contract_files(tmp_path, capsys):
     assert "M particle-steps/s" in out
 
 
+def test_wall_force_adds_one_column_per_component(tmp_path, capsys):
+    out_dir = tmp_path / "run"
+    code, _, _ = run_cli(["run", "hydrostatic", "--dx", "0.05", "--t-end", "0.01", "--out", str(out_dir),
+                          "--no-progress", "--no-vtk", "--wall-force", "tank", "--set", "length=0.5",
+                          "--set", "depth=0.2", "--set", "height=0.3"], capsys)
+    assert code == 0
+    t, cols = read_probes_csv(str(out_dir / "probes.csv"))
+    assert {"wall_force:tank:fx", "wall_force:tank:fy"} <= set(cols) and "wall_force:tank:fz" not in cols
+    summary = json.loads((out_dir / "summary.json").read_text())
+    assert summary["probe_units"]["wall_force:tank:fy"] == "N/m"
+    # water at rest presses on its tank with its weight (hydrostatic start: within a few per cent), pointing down
+    weight = summary["probes"]["mass"]["final"] * 9.81
+    assert cols["wall_force:tank:fy"][0] == pytest.approx(-weight, rel=0.03)
+    assert abs(cols["wall_force:tank:fx"][0]) < 1e-9 * weight     # a symmetric tank: no net side force
+
+
 def test_bench_prints_one_json_line(capsys):
     code, out, _ = run_cli(["bench", "hydrostatic", "--dx", "0.05", "--steps", "5"], capsys)
     assert code == 0
@@ -104,6 +120,7 @@ def test_bench_prints_one_json_line(capsys):
     (["run", "hydrostatic", "--set", "colour=red"], "no parameter 'colour'"),
     (["run", "taylor-green", "--set", "shifting=sideways"], "shifting must be one of"),
     (["run", "dam-break", "--set", "transport_velocity=true"], "needs its free-surface correction"),
+    (["run", "hydrostatic", "--wall-force", "tnk"], "no wall named 'tnk'; its walls: tank"),
 ])
 def test_bad_input_gives_one_line_without_traceback(args, word, tmp_path):
     proc = subprocess.run([sys.executable, "-m", "seawall", *args, "--out", str(tmp_path / "x")]
