@@ -169,17 +169,11 @@ def tables(info, sbs, mods, start, args):
 
 def write_doc(parts):
     """Replace each measured part's block in docs/performance.md (appended if missing); others stay."""
-    with open(DOC) as f:
-        doc = f.read()
+    from seawall.validation import replace_block
+
     for part, text in parts.items():
-        begin, end = f"<!-- bench_engine:{part}:begin -->", f"<!-- bench_engine:{part}:end -->"
-        block = f"{begin}\n{text}\n{end}"
-        if begin in doc and end in doc:
-            doc = doc[:doc.index(begin)] + block + doc[doc.index(end) + len(end):]
-        else:
-            doc = doc.rstrip() + "\n\n" + block + "\n"
-    with open(DOC, "w") as f:
-        f.write(doc)
+        replace_block(DOC, f"<!-- bench_engine:{part}:begin -->", f"<!-- bench_engine:{part}:end -->", text,
+                      append=True)
 
 
 def main(argv=None):

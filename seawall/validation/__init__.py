@@ -286,6 +286,27 @@ def _tolerance_cell(r):
     return f"{t:g} ({kind})"
 
 
+def replace_block(doc, begin, end, body, *, append=False):
+    """Replace the text between the marker lines ``begin`` and ``end`` of the file ``doc`` by ``body``.
+
+    The scripts that write measured tables into docs/ (leak sweep, plateau profiles, benchmarks) keep
+    the prose around their block. A missing marker stops with one line naming the file, unless
+    ``append``, which adds the block at the end.
+    """
+    with open(doc) as fh:
+        text = fh.read()
+    block = f"{begin}\n{body}\n{end}"
+    if begin in text and end in text:
+        head, rest = text.split(begin, 1)
+        text = head + block + rest.split(end, 1)[1]
+    elif append:
+        text = text.rstrip() + "\n\n" + block + "\n"
+    else:
+        raise SystemExit(f"{doc} lacks the markers {begin} ... {end}")
+    with open(doc, "w") as fh:
+        fh.write(text)
+
+
 def write_markdown(doc, stored, registry, *, title_note=""):
     """docs/validation.md from the stored results (entries without a result are listed as not run)."""
     doc_dir = os.path.dirname(os.path.abspath(doc))

@@ -97,3 +97,14 @@ def test_a_new_folder_is_discovered_and_keeps_its_result_and_figure(tmp_path, mo
     finally:
         sys.modules.pop("seawall.validation.entries.stand_in", None)
         vars(sys.modules["seawall.validation.entries"]).pop("stand_in", None)
+
+
+def test_replace_block_keeps_the_prose_and_refuses_a_file_without_markers(tmp_path):
+    doc = tmp_path / "notes.md"
+    doc.write_text("intro\n<!-- t:begin -->\nold\n<!-- t:end -->\noutro\n")
+    validation.replace_block(str(doc), "<!-- t:begin -->", "<!-- t:end -->", "new | table")
+    assert doc.read_text() == "intro\n<!-- t:begin -->\nnew | table\n<!-- t:end -->\noutro\n"
+    with pytest.raises(SystemExit, match="lacks the markers"):
+        validation.replace_block(str(doc), "<!-- u:begin -->", "<!-- u:end -->", "x")
+    validation.replace_block(str(doc), "<!-- u:begin -->", "<!-- u:end -->", "x", append=True)
+    assert doc.read_text().endswith("outro\n\n<!-- u:begin -->\nx\n<!-- u:end -->\n")

@@ -86,13 +86,9 @@ def table(readouts=("wall", "force", "int1.6", "layer")):
 
 def write_doc():
     doc = os.path.join(ROOT, "docs", "validation-notes.md")
-    begin, end = "<!-- plateau-diagnostics:begin -->", "<!-- plateau-diagnostics:end -->"
-    with open(doc) as fh:
-        text = fh.read()
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    with open(doc, "w") as fh:
-        fh.write(head + begin + "\n" + table() + "\n" + end + tail)
+    from seawall.validation import replace_block
+
+    replace_block(doc, "<!-- plateau-diagnostics:begin -->", "<!-- plateau-diagnostics:end -->", table())
 
 
 def main(argv=None):

@@ -252,14 +252,9 @@ def write_doc():
         if data.get("models"):
             blocks.append(table(resolution, data))
     body = "\n\n".join(blocks) if blocks else "(no stored results)"
-    with open(DOC) as fh:
-        text = fh.read()
-    if BEGIN not in text or END not in text:
-        raise SystemExit(f"docs/boundaries.md lacks the markers {BEGIN} ... {END}")
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    with open(DOC, "w") as fh:
-        fh.write(head + BEGIN + "\n" + body + "\n" + END + tail)
+    from seawall.validation import replace_block
+
+    replace_block(DOC, BEGIN, END, body)
 
 
 def main(argv=None):
