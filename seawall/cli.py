@@ -181,15 +181,26 @@ def build_parser():
     forces.add_argument("run_dir")
     forces.add_argument("--out", help="CSV path (default RUN_DIR/forces.csv)")
 
-    sample = sub.add_parser("sample", help="fluid fields along a line in the stored frames of a run -> CSV")
+    sample = sub.add_parser("sample", help="fluid fields at points and lines, wall pressure sensors and free-surface "
+                                           "gauges in the stored frames of a run -> CSV")
     sample.add_argument("run_dir")
-    sample.add_argument("--line", required=True, metavar="x0,y0:x1,y1:n",
+    sample.add_argument("--line", metavar="x0,y0:x1,y1:n",
                         help="n points from (x0, y0) to (x1, y1) (x0,y0,z0:x1,y1,z1:n in 3D)")
+    sample.add_argument("--point", action="append", metavar="x,y[,z]",
+                        help="one point (repeatable; written after the line's points in sample.csv)")
+    sample.add_argument("--sensor", action="append", metavar="x,y[,z][:diameter]",
+                        help="pressure sensor on a wall, as `seawall run --sensor`: face-averaged wall pressure "
+                             "[Pa], column sensor:<k> of sensors.csv (repeatable)")
+    sample.add_argument("--gauge", action="append", metavar="x[,z]",
+                        help="free-surface elevation [m] above this horizontal position (the horizontal "
+                             "coordinate(s), gravity giving the vertical), column gauge:<k> of sensors.csv "
+                             "(repeatable)")
     sample.add_argument("--time", type=_time_of_snapshot, action="append",
                         help="the frame nearest to this time (repeatable; default every frame)")
     sample.add_argument("--quantities", default="pressure,u,v",
                         help="comma-separated: pressure (gauge), density, u, v, w, speed (default pressure,u,v)")
-    sample.add_argument("--out", help="CSV path (default RUN_DIR/sample.csv)")
+    sample.add_argument("--out", help="CSV path of the points and lines (default RUN_DIR/sample.csv)")
+    sample.add_argument("--sensors-out", help="CSV path of the sensors and gauges (default RUN_DIR/sensors.csv)")
 
     geometry = sub.add_parser("geometry", help="wall particles and normals of an STL/OBJ file -> VTU, to "
                               "inspect before a run (needs seawall[geometry])")
@@ -607,17 +618,56 @@ def cmd_forces(args):
     return 0
 
 
-def cmd_sample(args):
-    from .postprocess import sample_series, write_sample_csv
-    from .sampling import line_points, parse_line
+def _coordinates(option, text, counts):
+    from .errors import ParameterError
 
-    start, end, n = parse_line(args.line)
-    points = line_points(start, end, n)
-    quantities = tuple(q.strip() for q in args.quantities.split(",") if q.strip())
-    times, result = sample_series(args.run_dir, points, quantities, times=args.time)
-    out = args.out or os.path.join(args.run_dir, "sample.csv")
-    write_sample_csv(out, times, points, result)
-    print(f"{len(times)} frames x {len(points)} points -> {out}")
+    try:
+        values = [float(c) for c in str(text).split(",")]
+    except ValueError:
+        values = []
+    if len(values) not in counts or not all(math.isfinite(v) for v in values):
+        raise ParameterError(f"{option} must be {' or '.join(str(c) for c in counts)} finite comma-separated "
+                             f"numbers, got {text!r}")
+    return values
+
+
+def cmd_sample(args):
+    import numpy as np
+
+    from .errors import ParameterError
+    from .postprocess import gauge_series, sample_series, sensor_series, write_sample_csv, write_sensor_csv
+    from .sampling import line_points, parse_line, parse_sensor
+
+    if not (args.line or args.point or args.sensor or args.gauge):
+        raise ParameterError("seawall sample needs at least one of --line, --point, --sensor, --gauge")
+    groups = []
+    if args.line:
+        start, end, n = parse_line(args.line)
+        groups.append(line_points(start, end, n))
+    for text in args.point or []:
+        groups.append(np.asarray([_coordinates("--point", text, (2, 3))]))
+    if groups:
+        if len({g.shape[1] for g in groups}) > 1:
+            raise ParameterError("--line and --point must have the same number of coordinates")
+        points = np.concatenate(groups)
+        quantities = tuple(q.strip() for q in args.quantities.split(",") if q.strip())
+        times, result = sample_series(args.run_dir, points, quantities, times=args.time)
+        out = args.out or os.path.join(args.run_dir, "sample.csv")
+        write_sample_csv(out, times, points, result)
+        print(f"{len(times)} frames x {len(points)} points -> {out}")
+    columns = {}
+    if args.sensor:
+        sensors = [parse_sensor(text) for text in args.sensor]
+        times, values = sensor_series(args.run_dir, sensors, times=args.time)
+        columns.update({f"sensor:{k + 1}": values[:, k] for k in range(len(sensors))})
+    if args.gauge:
+        positions = [_coordinates("--gauge", text, (1, 2)) for text in args.gauge]
+        times, values = gauge_series(args.run_dir, positions, times=args.time)
+        columns.update({f"gauge:{k + 1}": values[:, k] for k in range(len(positions))})
+    if columns:
+        out = args.sensors_out or os.path.join(args.run_dir, "sensors.csv")
+        write_sensor_csv(out, times, columns)
+        print(f"{len(times)} frames: {', '.join(columns)} (sensor Pa, gauge m) -> {out}")
     return 0
 
 

@@ -73,10 +73,13 @@ class VTK:
         from . import __version__
 
         md = sim.metadata
+        gravity = getattr(sim, "gravity", None)
         return {"seawall_version": __version__, "case": md.get("case"), "boundary": md.get("boundary"),
                 "wall_model": what, "time": sim.time, "step": sim.step, "h": sim.h,
                 "kernel": type(getattr(sim, "kernel", None)).__name__, "dimension": sim.dim,
-                "dx": sim.fluid.spacing, "pressure_convention": PRESSURE_CONVENTION}
+                "dx": sim.fluid.spacing, "pressure_convention": PRESSURE_CONVENTION,
+                # the sensors of `seawall sample` extrapolate the pressure to the wall with it
+                "gravity": None if gravity is None else [float(g) for g in gravity]}
 
     def _options(self, sim, extra=None):
         p_bg = float(sim.physics.p_background)

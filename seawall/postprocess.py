@@ -14,6 +14,10 @@ Both read only the files ``seawall run`` wrote, so they work after the run
   sec. 3.3, eq. 14-16), f(x) = sum_j f_j W_j V_j / sum_j W_j V_j with
   V_j = m_j / rho_j, over particles within the kernel support; NaN where no
   particle is within it. The kernel and h come from the file's metadata.
+* :func:`sensor_series` -- the face-averaged wall pressure of a pressure sensor
+  (the read-out of the run-time ``PressureSensor``, ``--sensor``) from stored frames.
+* :func:`gauge_series` -- the free-surface elevation above given horizontal
+  positions (wave gauges) from stored frames.
 """
 
 import os
@@ -100,11 +104,8 @@ def _shepard(points, x, values, volume, kernel, h):
     return out
 
 
-def sample_series(run_dir, points, quantities=("pressure", "u", "v"), times=None):
-    """Fluid ``quantities`` at ``points`` (M, d) in the stored frames (all, or those nearest to ``times``).
-
-    Returns (frame times (F,), {quantity: (F, M) array}).
-    """
+def _fluid_frames(run_dir, times, dim=None):
+    """The stored fluid frames (all, or those nearest to ``times``) as (t, path, x, data, meta, kernel, h)."""
     from .io.vtk import read_vtu, read_vtu_metadata
     from .kernels import KERNELS
 
@@ -114,12 +115,7 @@ def sample_series(run_dir, points, quantities=("pressure", "u", "v"), times=None
     if times is not None:
         chosen = sorted({int(np.argmin([abs(ft - t) for ft, _ in frames])) for t in times})
         frames = [frames[k] for k in chosen]
-    points = np.asarray(points, dtype=np.float64)
-    unknown = [q for q in quantities if q not in SAMPLE_QUANTITIES]
-    if unknown:
-        raise ParameterError(f"unknown quantity {unknown[0]!r}; available: {', '.join(SAMPLE_QUANTITIES)}")
     by_class = {type(k()).__name__: k for k in KERNELS.values()}
-    result = {q: [] for q in quantities}
     for t, path in frames:
         meta = read_vtu_metadata(path)
         if "h" not in meta:
@@ -128,12 +124,30 @@ def sample_series(run_dir, points, quantities=("pressure", "u", "v"), times=None
         kernel = by_class.get(meta.get("kernel", "CubicSpline"))
         if kernel is None:
             raise ParameterError(f"{path}: unknown kernel {meta.get('kernel')!r}")
-        dim = int(meta.get("dimension", points.shape[1]))
-        if points.shape[1] != dim:
-            raise ParameterError(f"points have {points.shape[1]} coordinates, the run is {dim}D")
+        run_dim = int(meta.get("dimension", dim or 2))
+        if dim is not None and dim != run_dim:
+            raise ParameterError(f"points have {dim} coordinates, the run is {run_dim}D")
         x, data = read_vtu(path)
-        x = x[:, :dim]
-        if "w" in quantities and dim == 2:
+        yield t, path, x[:, :run_dim].astype(np.float64), data, meta, kernel(), float(meta["h"])
+
+
+def _volume(data):
+    return data["mass"].astype(np.float64) / data["density"].astype(np.float64)
+
+
+def sample_series(run_dir, points, quantities=("pressure", "u", "v"), times=None):
+    """Fluid ``quantities`` at ``points`` (M, d) in the stored frames (all, or those nearest to ``times``).
+
+    Returns (frame times (F,), {quantity: (F, M) array}).
+    """
+    points = np.asarray(points, dtype=np.float64)
+    unknown = [q for q in quantities if q not in SAMPLE_QUANTITIES]
+    if unknown:
+        raise ParameterError(f"unknown quantity {unknown[0]!r}; available: {', '.join(SAMPLE_QUANTITIES)}")
+    result = {q: [] for q in quantities}
+    frame_times = []
+    for t, _, x, data, meta, kernel, h in _fluid_frames(run_dir, times, points.shape[1]):
+        if "w" in quantities and x.shape[1] == 2:
             raise ParameterError("quantity 'w' needs a 3D run")
         cols = []
         for q in quantities:
@@ -146,11 +160,185 @@ def sample_series(run_dir, points, quantities=("pressure", "u", "v"), times=None
             else:
                 cols.append(data["velocity"][:, "uvw".index(q)])
         values = np.stack(cols, axis=1).astype(np.float64)
-        volume = data["mass"].astype(np.float64) / data["density"].astype(np.float64)
-        sampled = _shepard(points, x.astype(np.float64), values, volume, kernel(), float(meta["h"]))
+        sampled = _shepard(points, x, values, _volume(data), kernel, h)
+        frame_times.append(t)
         for k, q in enumerate(quantities):
             result[q].append(sampled[:, k])
-    return np.array([t for t, _ in frames]), {q: np.array(v) for q, v in result.items()}
+    return np.array(frame_times), {q: np.array(v) for q, v in result.items()}
+
+
+def _gravity(meta, path, what):
+    g = meta.get("gravity")
+    if g is None:
+        raise ParameterError(f"{path} does not record gravity, which {what} needs: it was written before "
+                             f"seawall stored it in the VTU files; run the case again")
+    return np.asarray(g, dtype=np.float64)
+
+
+def _wall_surface_frames(run_dir, count, dim):
+    """Per fluid frame index: (x, normal, surface) of all wall particles that record normals."""
+    from .io.vtk import read_vtu
+
+    series = [_series(run_dir, f"wall_{name}") for name in _wall_names(run_dir)]
+    out = []
+    for k in range(count):
+        xs, ns, ss = [], [], []
+        for frames in series:
+            if not frames:
+                continue
+            x, data = read_vtu(frames[min(k, len(frames) - 1)][1])
+            if "normal" not in data or "mirror_point" not in data:
+                continue
+            xs.append(x[:, :dim])
+            ns.append(data["normal"][:, :dim])
+            # the files store the mirror point 2 s - x of each particle's surface point s
+            ss.append(0.5 * (data["mirror_point"][:, :dim] + x[:, :dim]))
+        out.append(None if not xs else tuple(np.concatenate(a).astype(np.float64) for a in (xs, ns, ss)))
+    return out
+
+
+def sensor_series(run_dir, sensors, times=None):
+    """Face-averaged wall pressure of ``sensors`` [(point, diameter or None), ...] in the stored frames [Pa].
+
+    The same read-out as the run-time :class:`seawall.probes.PressureSensor`: the face is
+    centred on the point's projection onto the surface of the nearest wall particle (whose
+    normal and surface point the wall files store), its diameter defaults to one kernel support,
+    and the pressure at each quadrature point of :func:`seawall.sampling.face_points` is the
+    extrapolation of [Adami2012] eq. 27 used by the wall probes,
+    p = sum_f (p_f + rho_f g . (x - x_f)) W_f / sum_f W_f over the fluid within the support
+    (0 where none: a dry sensor). Returns (frame times (F,), (F, S) array).
+    """
+    from .sampling import face_points
+
+    frames = list(_fluid_frames(run_dir, times))
+    all_frames = _series(run_dir)
+    index = {path: k for k, (_, path) in enumerate(all_frames)}
+    dim = frames[0][2].shape[1] if frames else 2
+    walls = _wall_surface_frames(run_dir, len(all_frames), dim)
+    values = np.full((len(frames), len(sensors)), np.nan)
+    for f, (t, path, x, data, meta, kernel, h) in enumerate(frames):
+        dim = x.shape[1]
+        g = _gravity(meta, path, "a pressure sensor")
+        surface = walls[index[path]]
+        if surface is None:
+            raise ParameterError(f"{run_dir} holds no wall files with normals: a sensor needs them")
+        wx, wn, ws = surface
+        support = kernel.support(h)
+        dx = float(meta.get("dx", h))
+        for k, (point, diameter) in enumerate(sensors):
+            point = np.asarray(point, dtype=np.float64)
+            if point.size != dim:
+                raise ParameterError(f"sensor {k + 1}: point has {point.size} coordinates, the run is {dim}D")
+            r2 = np.sum((wx - point) ** 2, axis=1)
+            b = int(np.argmin(r2))
+            normal = wn[b] / np.linalg.norm(wn[b])
+            off = float(np.dot(point - ws[b], normal))
+            if abs(off) > 0.5 * dx or r2[b] > support ** 2:
+                raise ParameterError(f"sensor {k + 1}: point {point.tolist()} is not on a wall surface at "
+                                     f"t = {t:g} s (nearest surface {abs(off):.3g} m away along its normal); "
+                                     f"put it on a wall")
+            pts, weights = face_points(point - off * normal, normal, diameter or support, 0.5 * dx)
+            values[f, k] = np.dot(weights, _extrapolated_pressure(pts, x, data, kernel, h, g)) / weights.sum()
+    return np.array([fr[0] for fr in frames]), values
+
+
+def _extrapolated_pressure(points, x, data, kernel, h, g):
+    """p at ``points`` by [Adami2012] eq. 27 from the fluid (0 where no fluid is within the support)."""
+    p = data["pressure"].astype(np.float64)
+    rho = data["density"].astype(np.float64)
+    support = kernel.support(h)
+    dim = x.shape[1]
+    out = np.zeros(points.shape[0])
+    for m, q in enumerate(points):
+        d = q - x
+        r = np.sqrt(np.einsum("ij,ij->i", d, d))
+        near = r < support
+        if not near.any():
+            continue
+        w = kernel.value(r[near], h, dim)
+        if w.sum() > 0:
+            out[m] = np.dot(w, p[near] + rho[near] * (d[near] @ g)) / w.sum()
+    return out
+
+
+def gauge_series(run_dir, positions, times=None, resolution=0.25):
+    """Free-surface elevation [m] above the given horizontal positions in the stored frames.
+
+    The vertical is the axis of gravity (stored in the files). Along the vertical line through
+    each position the Shepard sum of the fluid, sum_f V_f W_f ([Huang2019] eq. 16's
+    denominator: 1 inside the fluid, 0 outside), is evaluated every ``resolution`` dx, and the
+    elevation is the highest height where it crosses 0.5, interpolated linearly (the
+    half-filled kernel of a flat surface sits on the surface). NaN where the line meets no
+    fluid. ``positions``: the horizontal coordinates (x in 2D; the two horizontal axes in 3D,
+    in axis order). Returns (frame times (F,), (F, G) array). On a lattice block the
+    half-filled kernel lies 0.001 dx above the surface; within one kernel support of a side wall
+    or of the fluid's edge the kernel is cut sideways too and the gauge reads low (on a 0.3 m
+    still tank at dx = 0.05 m: 0.2965 m at one dx from the wall, 0.3000 m mid-tank).
+    """
+    frames = list(_fluid_frames(run_dir, times))
+    values = np.full((len(frames), len(positions)), np.nan)
+    for f, (t, path, x, data, meta, kernel, h) in enumerate(frames):
+        dim = x.shape[1]
+        g = _gravity(meta, path, "a free-surface gauge")
+        if not np.any(g):
+            raise ParameterError("a free-surface gauge needs gravity; the run has none")
+        up = int(np.argmax(np.abs(g)))
+        if np.count_nonzero(g) != 1:
+            raise ParameterError(f"a free-surface gauge needs gravity along one axis, got {g.tolist()}")
+        horizontal = [a for a in range(dim) if a != up]
+        dx = float(meta.get("dx", h))
+        support = kernel.support(h)
+        lo, hi = x[:, up].min() - support, x[:, up].max() + support
+        heights = np.arange(lo, hi + resolution * dx, resolution * dx)
+        if g[up] > 0:              # gravity towards +axis: the surface is the lowest crossing
+            heights = heights[::-1]
+        ones = np.ones((x.shape[0], 1))
+        volume = _volume(data)
+        for k, pos in enumerate(positions):
+            pos = np.atleast_1d(np.asarray(pos, dtype=np.float64))
+            if pos.size != len(horizontal):
+                raise ParameterError(f"gauge {k + 1}: needs {len(horizontal)} horizontal coordinate(s), "
+                                     f"got {pos.tolist()}")
+            pts = np.zeros((heights.size, dim))
+            pts[:, horizontal] = pos
+            pts[:, up] = heights
+            full = _filled(pts, x, ones, volume, kernel, h)
+            wet = np.nonzero(full >= 0.5)[0]
+            if wet.size == 0:
+                continue
+            top = wet[-1]
+            if top + 1 < heights.size:
+                a, b = full[top], full[top + 1]
+                values[f, k] = heights[top] + (a - 0.5) / (a - b) * (heights[top + 1] - heights[top])
+            else:
+                values[f, k] = heights[top]
+    return np.array([fr[0] for fr in frames]), values
+
+
+def _filled(points, x, ones, volume, kernel, h):
+    """The Shepard sum sum_f V_f W_f at ``points`` (0 where no fluid is near)."""
+    support = kernel.support(h)
+    dim = x.shape[1]
+    out = np.zeros(points.shape[0])
+    for m, q in enumerate(points):
+        d = q - x
+        r = np.sqrt(np.einsum("ij,ij->i", d, d))
+        near = r < support
+        if near.any():
+            out[m] = np.dot(kernel.value(r[near], h, dim), volume[near])
+    return out
+
+
+def write_sensor_csv(path, times, columns):
+    """sensors.csv: time, then one column per sensor (``sensor:<k>``, Pa) and gauge (``gauge:<k>``, m)."""
+    from .io.vtk import _atomic_write
+
+    names = list(columns)
+    with _atomic_write(path, "w") as fh:
+        fh.write(",".join(["time", *names]) + "\n")
+        for f, t in enumerate(times):
+            fh.write(",".join([f"{t:.9g}", *(f"{columns[n][f]:.9g}" for n in names)]) + "\n")
+    return path
 
 
 def write_sample_csv(path, times, points, result):
