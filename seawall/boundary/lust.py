@@ -124,11 +124,11 @@ def lust_kernel_sums(layout, xf, vol, xw, surface, normal, start, order, reach, 
     ``count[i]`` nodes, ``shepard[i]`` = sum_k V_i W_ik, ``gradient[i]`` = sum_k V_i grad_i W_ik
     ([Fourtakas2019]: the stencil completes i's kernel support; tests and diagnostics).
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     inv_h = 1.0 / prm.h
     gradient_scale = prm.sigma * inv_h * inv_h
     for i in prange(xf.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
         count[i] = 0
         shepard[i] = 0.0
         for c in range(dim):
@@ -177,8 +177,6 @@ def lust_forces(layout, fluid, xw, vw, aw, surface, normal, start, order, reach,
 
     with p_k, rho_k, v_k of the module doc. ``alpha`` and ``nu`` are 0 where the term does not act.
     """
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
     xf = fluid.x
     vf = fluid.v
     dv = rates.dv
@@ -189,6 +187,8 @@ def lust_forces(layout, fluid, xw, vw, aw, surface, normal, start, order, reach,
     eta2 = prm.eta2
     beta = prm.beta
     for i in prange(xf.shape[0]):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
