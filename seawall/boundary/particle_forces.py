@@ -17,7 +17,7 @@ is additive over any split of the wall particles). The colouring is greedy, so a
 layers needs about 30 classes and a 3D one a few hundred: each is one ``interact`` over a part of
 the wall, so this runs only at output times (``Simulation.evaluate`` with the runner's request).
 
-Models whose push is not such a sum (none registered today declares ``pairwise_momentum = False``)
+Models whose push is not such a sum (of the registered ones, ``lust``: its nodes carry the fluid particle's own state)
 get no per-particle force: :func:`defines_particle_forces` is False, and the VTU files carry only
 the wall's total (``wall_force``). Adhesion (``WallSystem(adhesion_coefficient=...)``) is a force
 of its own on top of the model's; a wall with adhesion gets no per-particle force either, so that
