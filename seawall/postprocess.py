@@ -246,19 +246,23 @@ def _extrapolated_pressure(points, x, data, kernel, h, g):
     """p at ``points`` by [Adami2012] eq. 27 from the fluid (0 where no fluid is within the support)."""
     p = data["pressure"].astype(np.float64)
     rho = data["density"].astype(np.float64)
+    out = np.zeros(points.shape[0])
+    for m, d, w, near in _kernel_weights(points, x, kernel, h):
+        if w.sum() > 0:
+            out[m] = np.dot(w, p[near] + rho[near] * (d[near] @ g)) / w.sum()
+    return out
+
+
+def _kernel_weights(points, x, kernel, h):
+    """Per point m with fluid within the support: (m, q_m - x, W of the near particles, near mask)."""
     support = kernel.support(h)
     dim = x.shape[1]
-    out = np.zeros(points.shape[0])
     for m, q in enumerate(points):
         d = q - x
         r = np.sqrt(np.einsum("ij,ij->i", d, d))
         near = r < support
-        if not near.any():
-            continue
-        w = kernel.value(r[near], h, dim)
-        if w.sum() > 0:
-            out[m] = np.dot(w, p[near] + rho[near] * (d[near] @ g)) / w.sum()
-    return out
+        if near.any():
+            yield m, d, kernel.value(r[near], h, dim), near
 
 
 def gauge_series(run_dir, positions, times=None, resolution=0.25):
@@ -292,7 +296,6 @@ def gauge_series(run_dir, positions, times=None, resolution=0.25):
         heights = np.arange(lo, hi + resolution * dx, resolution * dx)
         if g[up] > 0:              # gravity towards +axis: the surface is the lowest crossing
             heights = heights[::-1]
-        ones = np.ones((x.shape[0], 1))
         volume = _volume(data)
         for k, pos in enumerate(positions):
             pos = np.atleast_1d(np.asarray(pos, dtype=np.float64))
@@ -302,7 +305,7 @@ def gauge_series(run_dir, positions, times=None, resolution=0.25):
             pts = np.zeros((heights.size, dim))
             pts[:, horizontal] = pos
             pts[:, up] = heights
-            full = _filled(pts, x, ones, volume, kernel, h)
+            full = _filled(pts, x, volume, kernel, h)
             wet = np.nonzero(full >= 0.5)[0]
             if wet.size == 0:
                 continue
@@ -315,17 +318,11 @@ def gauge_series(run_dir, positions, times=None, resolution=0.25):
     return np.array([fr[0] for fr in frames]), values
 
 
-def _filled(points, x, ones, volume, kernel, h):
+def _filled(points, x, volume, kernel, h):
     """The Shepard sum sum_f V_f W_f at ``points`` (0 where no fluid is near)."""
-    support = kernel.support(h)
-    dim = x.shape[1]
     out = np.zeros(points.shape[0])
-    for m, q in enumerate(points):
-        d = q - x
-        r = np.sqrt(np.einsum("ij,ij->i", d, d))
-        near = r < support
-        if near.any():
-            out[m] = np.dot(kernel.value(r[near], h, dim), volume[near])
+    for m, _, w, near in _kernel_weights(points, x, kernel, h):
+        out[m] = np.dot(w, volume[near])
     return out
 
 
