@@ -180,6 +180,8 @@ def build_parser():
                             "(from its VTU files) -> forces.csv")
     forces.add_argument("run_dir")
     forces.add_argument("--out", help="CSV path (default RUN_DIR/forces.csv)")
+    forces.add_argument("--wall", action="append", metavar="NAME",
+                        help="only this wall system (repeatable; default every wall)")
 
     sample = sub.add_parser("sample", help="fluid fields at points and lines, wall pressure sensors and free-surface "
                                            "gauges in the stored frames of a run -> CSV")
@@ -606,14 +608,25 @@ def cmd_forces(args):
 
     from .postprocess import wall_force_series, write_forces_csv
 
+    from .errors import ParameterError
+    from .postprocess import impulse
+
     series = wall_force_series(args.run_dir)
+    if args.wall:
+        unknown = [w for w in args.wall if w not in series]
+        if unknown:
+            raise ParameterError(f"--wall: {args.run_dir} has no wall named {unknown[0]!r}; its walls: "
+                                 + ", ".join(series))
+        series = {w: series[w] for w in args.wall}
     out = args.out or os.path.join(args.run_dir, "forces.csv")
     write_forces_csv(out, series)
+    unit = "N" if next(iter(series.values()))[1].shape[-1] == 3 else "N/m"
     for name, (t, f) in series.items():
         if len(t):
             k = int(np.argmax(np.linalg.norm(f, axis=1)))
             print(f"wall {name}: {len(t)} frames, largest |F| = {np.linalg.norm(f[k]):.5g} at t = {t[k]:.4g} s "
-                  f"({', '.join(f'{v:.5g}' for v in f[k])})")
+                  f"({', '.join(f'{v:.5g}' for v in f[k])}) {unit}; impulse over "
+                  f"{t[0]:.4g}-{t[-1]:.4g} s: ({', '.join(f'{v:.5g}' for v in impulse(t, f))}) {unit} s")
     print(out)
     return 0
 

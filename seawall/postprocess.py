@@ -59,6 +59,17 @@ def wall_force_series(run_dir):
     return out
 
 
+def impulse(times, forces):
+    """The time integral of a force series, int F dt by the trapezoidal rule over the output times
+    [N s, per metre of depth in 2D]; as coarse as the output interval (an impact peak between two
+    frames is missed: integrate the ``WallForce`` probe at a fine ``--probe-every`` for that)."""
+    t = np.asarray(times, dtype=np.float64)
+    f = np.asarray(forces, dtype=np.float64)
+    if t.size < 2:
+        return np.zeros(f.shape[-1])
+    return (0.5 * (f[1:] + f[:-1]) * np.diff(t)[:, None]).sum(axis=0)
+
+
 def write_forces_csv(path, series):
     """forces.csv: time, wall, fx, fy[, fz] -- one row per wall and output time."""
     from .io.vtk import _atomic_write

@@ -56,7 +56,14 @@ def test_sample_and_forces_commands_write_their_csv(tmp_path, capsys):
     assert main(["forces", str(run)]) == 0
     lines = (run / "forces.csv").read_text().splitlines()
     assert lines == ["time,wall,fx,fy", "0,tank,0,-5", "0.5,tank,10,-6"]
-    assert "largest |F| = 11.662 at t = 0.5 s" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "largest |F| = 11.662 at t = 0.5 s (10, -6) N/m" in said
+    # trapezoid over the two frames: 0.5 s x ((0, -5) + (10, -6)) / 2
+    assert "impulse over 0-0.5 s: (2.5, -2.75) N/m s" in said
+    assert main(["forces", str(run), "--wall", "tank", "--out", str(tmp_path / "f.csv")]) == 0
+    assert (tmp_path / "f.csv").read_text().splitlines() == lines
+    assert main(["forces", str(run), "--wall", "lid"]) == 2
+    assert "--wall: " in capsys.readouterr().err
     assert main(["sample", str(run), "--line", "0.05,0.05:0.15,0.05:3", "--time", "0.4",
                  "--quantities", "pressure", "--out", str(tmp_path / "s.csv")]) == 0
     rows = (tmp_path / "s.csv").read_text().splitlines()
