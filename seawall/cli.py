@@ -1,4 +1,4 @@
-"""Command line: ``seawall cases | boundaries | run | compare | validate | plot | bench | geometry``.
+"""Command line: ``seawall cases | boundaries | run | compare | sweep | validate | plot | bench | geometry``.
 
 The output files of ``run`` (probes.csv, summary.json, the VTU/PVD series)
 and the JSON line of ``bench`` are a contract other tools rely on: columns
@@ -153,6 +153,18 @@ def build_parser():
     comp.add_argument("--out", help="output directory (default runs/compare-CASE, CASE the case's name)")
     comp.add_argument("--jobs", type=_positive_int("--jobs"), help="models run at once (default: cores)")
     comp.add_argument("--set", action="append", metavar="KEY=VALUE", help="case parameter, given to every model")
+    _cluster_options(comp)
+
+    swp = sub.add_parser("sweep", help="run a case once per combination of --set values; write sweep.md/.csv")
+    swp.add_argument("case")
+    swp.add_argument("--set", action="append", metavar="KEY=v1,v2,...", required=True,
+                     help="a case or wall-model parameter and its values (repeatable: the runs are every "
+                          "combination; KEY boundary sweeps the wall model)")
+    swp.add_argument("--boundary", help="wall model of every run; default the case's own")
+    swp.add_argument("--t-end", type=_positive("--t-end"), help="simulated end time [s] (case default otherwise)")
+    swp.add_argument("--out", help="output directory (default runs/sweep-CASE, CASE the case's name)")
+    swp.add_argument("--jobs", type=_positive_int("--jobs"), help="runs at once on this machine (default: cores)")
+    _cluster_options(swp)
 
     val = sub.add_parser("validate", help="run the validation entries and write docs/validation.md")
     val.add_argument("names", nargs="*", metavar="NAME", help="entries to run (default: all; see --list)")
@@ -165,6 +177,7 @@ def build_parser():
     val.add_argument("--doc-only", action="store_true",
                      help="regenerate the markdown from the stored results without running any entry")
     val.add_argument("--threads", type=_positive_int("--threads"), help="threads of the compiled loops")
+    _cluster_options(val, threads=False)
 
     plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
     plot.add_argument("run_dir")
@@ -227,6 +240,26 @@ def build_parser():
     bench.add_argument("--threads", type=_positive_int("--threads"))
     bench.add_argument("--set", action="append", metavar="KEY=VALUE")
     return parser
+
+
+def _cluster_options(parser, threads=True):
+    """--scheduler / --workers (and --threads) of the commands whose runs go to seawall.executors."""
+    parser.add_argument("--scheduler", nargs="?", const="local", metavar="ADDRESS",
+                        help="run through dask.distributed: the scheduler at ADDRESS (tcp://host:8786), or "
+                             "'local' (also the flag alone) for a local cluster (docs/sweeps.md)")
+    parser.add_argument("--workers", type=_positive_int("--workers"),
+                        help="workers of the local cluster (--scheduler local; default: cores)")
+    if threads:
+        parser.add_argument("--threads", type=_positive_int("--threads"),
+                            help="threads of each run's compiled loops (default: the cores shared among the "
+                                 "runs at once; 1 on a remote cluster)")
+
+
+def _executor(args, n_tasks):
+    from .executors import executor_for
+
+    return executor_for(scheduler=args.scheduler, workers=args.workers, jobs=args.jobs, n_tasks=n_tasks,
+                        threads_per_run=args.threads)
 
 
 def _clim(text):
@@ -571,8 +604,22 @@ def cmd_compare(args):
     boundaries = [b.strip() for b in args.boundaries.split(",") if b.strip()]
     print(f"seawall compare {args.case}: {', '.join(boundaries)} -> {out}", flush=True)
     rows = compare(args.case, boundaries, out=out, dx=args.dx, t_end=args.t_end, params=_parse_sets(args.set),
-                   jobs=args.jobs)
+                   executor=_executor(args, len(boundaries)))
     print(open(os.path.join(out, "compare.md")).read())
+    return 0 if all(r["status"] == "completed" for r in rows) else EXIT_UNSTABLE
+
+
+def cmd_sweep(args):
+    from .cases import case_by_name
+    from .sweep import combinations, parse_sweep_sets, sweep
+
+    grid = parse_sweep_sets(args.set)
+    out = args.out or os.path.join("runs", f"sweep-{case_by_name(args.case).name}")
+    executor = _executor(args, len(combinations(grid)))
+    print(f"seawall sweep {args.case}: {len(combinations(grid))} runs over {', '.join(grid)} on "
+          f"{executor.description} -> {out}", flush=True)
+    rows = sweep(args.case, grid, out=out, boundary=args.boundary, t_end=args.t_end, executor=executor)
+    print(open(os.path.join(out, "sweep.md")).read())
     return 0 if all(r["status"] == "completed" for r in rows) else EXIT_UNSTABLE
 
 
@@ -580,7 +627,7 @@ def cmd_validate(args):
     from .validation import run_validate
 
     return run_validate(args.names, quick=args.quick, results=args.results, doc=args.doc, threads=args.threads,
-                        list_only=args.list, doc_only=args.doc_only)
+                        list_only=args.list, doc_only=args.doc_only, scheduler=args.scheduler, workers=args.workers)
 
 
 def cmd_plot(args):
@@ -762,7 +809,7 @@ def main(argv=None):
     args.argv = ["seawall", *(sys.argv[1:] if argv is None else argv)]
     args.running = {}   # the simulation of `run`, for the signal handler
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
-                "plot": cmd_plot, "compare": cmd_compare, "new-case": cmd_new_case,
+                "plot": cmd_plot, "compare": cmd_compare, "sweep": cmd_sweep, "new-case": cmd_new_case,
                 "forces": cmd_forces, "sample": cmd_sample, "geometry": cmd_geometry,
                 "validate": cmd_validate}
     try:

@@ -1,7 +1,8 @@
 """Run one case with several wall models and compare them in numbers and plots.
 
 ``seawall compare CASE --boundaries A,B,C`` runs the case once per model
-(in parallel processes where cores allow), keeps each run's probes.csv and
+(in parallel processes where cores allow, or on a dask.distributed cluster with
+``--scheduler``: seawall.executors), keeps each run's probes.csv and
 summary.json in ``DIR/<model>/``, and writes ``DIR/compare.csv``,
 ``DIR/compare.md`` and one overlay plot per probe (``DIR/probe_<name>.png``).
 
@@ -35,9 +36,6 @@ Metrics, per model (a cell is "n/a" only where the case has nothing to measure):
 import csv
 import math
 import os
-from concurrent.futures import ProcessPoolExecutor
-import multiprocessing
-
 import numpy as np
 
 from .diagnostics import REASONS, pressure_noise, signed_wall_distance
@@ -76,19 +74,26 @@ class MinWallDistance(Probe):
 
 
 def run_one(case_name, boundary, dx, t_end, params, out_dir, threads):
-    """Run one model (in a worker process); return its summary dict with metrics."""
+    """Run one model (in a worker process) into ``out_dir/<boundary>``; return its summary dict with metrics."""
+    kwargs = dict(params)
+    if dx is not None:
+        kwargs["dx"] = dx
+    return run_case(case_name, boundary, kwargs, t_end, os.path.join(out_dir, boundary), threads)
+
+
+def run_case(case_name, boundary, params, t_end, run_dir, threads, series=True):
+    """One run of ``case_name`` with wall model ``boundary`` and the ``--set`` values ``params`` into
+    ``run_dir`` (probes.csv, summary.json); return ``{"summary": ..., "times": ..., "probes": ...}``
+    as plain data (``series=False``: the summary alone). Every argument is plain data, so the run
+    can be sent to a process or a cluster worker (seawall.executors)."""
     import time
 
     from .cases import case_by_name
     from .errors import InstabilityError
 
     case = case_by_name(case_name)
-    kwargs = dict(params)
-    if dx is not None:
-        kwargs["dx"] = dx
-    sim = case.build(boundary=boundary, threads=threads, **kwargs)
+    sim = case.build(boundary=boundary, threads=threads, **dict(params))
     sim.add(MinWallDistance(), every=case.probe_every)
-    run_dir = os.path.join(out_dir, boundary)
     os.makedirs(run_dir, exist_ok=True)
     t_end = t_end or case.t_end
     started = time.perf_counter()
@@ -106,6 +111,8 @@ def run_one(case_name, boundary, dx, t_end, params, out_dir, threads):
     summary = {**summary, "status": status, "case": case_name, "boundary": boundary}
     summary["metrics"] = metrics(case_name, sim, times, probes, summary)
     write_json(os.path.join(run_dir, "summary.json"), _plain(summary))
+    if not series:
+        return _plain({"summary": summary})
     return _plain({"summary": summary, "times": times.tolist(), "probes": {k: v.tolist() for k, v in probes.items()}})
 
 
@@ -166,12 +173,19 @@ def _plain(obj):
     return obj
 
 
-def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, jobs=None):
-    """Run ``case_name`` once per wall model in ``boundaries``; write the report; return the rows."""
+def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, jobs=None, executor=None,
+            progress=True):
+    """Run ``case_name`` once per wall model in ``boundaries``; write the report; return the rows.
+
+    ``executor`` (seawall.executors): where the runs go; default ``jobs`` local processes (one:
+    this process). A run that fails is a row with status ``failed: <error>``, the others go on.
+    """
     from .boundary.registry import BOUNDARIES
     from .cases import case_by_name
+    from .executors import Task, local_executor, run_tasks
+    from .sweep import case_spec, check_settings
 
-    case_by_name(case_name)
+    case = case_by_name(case_name)
     if not boundaries:
         raise ParameterError("--boundaries needs at least one wall model")
     unknown = [b for b in boundaries if b not in BOUNDARIES]
@@ -179,20 +193,16 @@ def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, job
         raise ParameterError(f"unknown boundary {unknown[0]!r}; available: {', '.join(BOUNDARIES)}")
     if len(set(boundaries)) != len(boundaries):
         raise ParameterError("--boundaries lists a model twice")
-    os.makedirs(out, exist_ok=True)
-    import numba
-
-    cores = min(os.cpu_count() or 1, numba.config.NUMBA_NUM_THREADS)   # NUMBA_NUM_THREADS caps the threads
-    jobs = max(1, min(jobs or cores, len(boundaries), cores))
-    threads = max(1, cores // jobs)
     params = dict(params or {})
-    if jobs == 1:
-        results = [run_one(case_name, b, dx, t_end, params, out, threads) for b in boundaries]
-    else:
-        ctx = multiprocessing.get_context("spawn")  # fresh numba thread pools per worker
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            futures = [pool.submit(run_one, case_name, b, dx, t_end, params, out, threads) for b in boundaries]
-            results = [f.result() for f in futures]
+    for b in boundaries:   # a bad --set key stops here, in one line, not in every run
+        check_settings(case, b, {**params, **({"dx": dx} if dx is not None else {})})
+    out = os.path.abspath(out)   # the runs may write from another process or machine
+    os.makedirs(out, exist_ok=True)
+    executor = executor or local_executor(jobs, len(boundaries))
+    spec = case_spec(case_name, case, executor)
+    tasks = [Task(run_one, (spec, b, dx, t_end, params, out, executor.threads_per_run), b) for b in boundaries]
+    outcomes = run_tasks(executor, tasks, desc=f"compare {case.name}", progress=progress)
+    results = [o.value if o.ok else _failed_result(case_name, b, o.error) for b, o in zip(boundaries, outcomes)]
     rows = []
     # the column beside particle-steps/s: the same ranking (dividing wall times listed a model that took
     # more steps, or compiled inside its loop, as the slowest although its rate was the highest)
@@ -207,6 +217,14 @@ def compare(case_name, boundaries, *, out, dx=None, t_end=None, params=None, job
     _write_markdown(os.path.join(out, "compare.md"), case_name, rows, dx, t_end)
     _plot_probes(out, boundaries, results)
     return rows
+
+
+def _failed_result(case_name, boundary, error):
+    """The result of a run that raised (or whose worker was lost): its status, no metrics, no series."""
+    status = f"failed: {error}"
+    return {"summary": {"case": case_name, "boundary": boundary, "status": status,
+                        "metrics": {**{c: None for c in COLUMNS if c != "boundary"}, "status": status}},
+            "times": [], "probes": {}}
 
 
 def _fmt(value, kind):
@@ -259,7 +277,7 @@ def _plot_probes(out, boundaries, results):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    names = [n for n in results[0]["probes"] if n not in ("mass",)]
+    names = list(dict.fromkeys(n for r in results for n in r["probes"] if n != "mass"))   # failed runs have none
     for name in names:
         fig, ax = plt.subplots(figsize=(7, 3.4), dpi=100)
         for b, r in zip(boundaries, results):

@@ -367,10 +367,12 @@ def write_markdown(doc, stored, registry, *, title_note=""):
 
 
 def run_validate(names=None, *, quick=False, results=None, doc=None, threads=None, list_only=False,
-                 doc_only=False):
+                 doc_only=False, scheduler=None, workers=None):
     """The ``seawall validate`` command. Exit code 0 when every entry ran (a failed row is a result,
     not an error), 1 when an entry could not run. ``doc_only``: regenerate the markdown from the
-    stored results without running anything."""
+    stored results without running anything. ``scheduler``: run the entries as tasks of a
+    dask.distributed cluster (``"local"``: a LocalCluster of ``workers`` processes started here;
+    seawall.executors) instead of one after the other in this process."""
     registry = all_entries()
     if list_only:
         width = max(len(n) for n in registry)
@@ -395,27 +397,52 @@ def run_validate(names=None, *, quick=False, results=None, doc=None, threads=Non
         write_markdown(doc, load_results(results, registry), registry, title_note=title_note)
         print(f"wrote {doc}")
         return 0
+    from ..executors import InProcess, Task, executor_for, run_tasks
+
+    # without --scheduler the entries run here, one after the other, as they always have
+    executor = executor_for(scheduler=scheduler, workers=workers, n_tasks=len(names), threads_per_run=threads,
+                            default_in_process=True)
     total = sum((registry[n].quick_s if quick else registry[n].expected_s) for n in names)
     print(f"seawall validate: {len(names)} entr{'y' if len(names) == 1 else 'ies'}, expected about "
           f"{_fmt_duration(total)} in total (one core; less with more)", flush=True)
     for n in names:
         e = registry[n]
         print(f"  {n:<18} ~{_fmt_duration(e.quick_s if quick else e.expected_s):>8}  {e.title}", flush=True)
+    here = isinstance(executor, InProcess)
+    if not here:
+        print(f"on {executor.description}", flush=True)
+        # a worker's working directory is its own: every path it is given is absolute
+        results = None if results is None else os.path.abspath(results)
+    tasks = [Task(run_named_entry, (n, VALIDATION_DIR, quick, results, img_dir,
+                                    threads if here else executor.threads_per_run), n) for n in names]
     status = 0
-    for n in names:
-        e = registry[n]
-        print(f"\n[{n}] {e.title}: expected about {_fmt_duration(e.quick_s if quick else e.expected_s)}", flush=True)
-        try:
-            res = run_entry(e, quick=quick, results=results, img_dir=img_dir, threads=threads)
-        except Exception as exc:  # one broken entry must not lose the others' results
-            print(f"[{n}] failed to run: {type(exc).__name__}: {exc}", file=sys.stderr, flush=True)
+
+    def report(index, outcome):
+        nonlocal status
+        n = names[index]
+        if not outcome.ok:   # one broken entry must not lose the others' results
+            print(f"[{n}] failed to run: {outcome.error}", file=sys.stderr, flush=True)
             status = 1
-            continue
+            return
+        res = outcome.value
+        if not here:
+            print(f"\n[{n}] {registry[n].title}", flush=True)
         for r in res["rows"]:
             print(f"  {r['quantity']:<45} {_cell(r['value'], r.get('format', '{:.4g}')):>10} vs "
                   f"{_cell(r['reference_value'], r.get('format', '{:.4g}')):>10}  error {_error_cell(r):>10}  "
                   f"tol {_tolerance_cell(r):>8}  {'pass' if r['pass'] else 'FAIL'}", flush=True)
         print(f"[{n}] done in {_fmt_duration(res['duration_s'])}", flush=True)
+
+    run_tasks(executor, tasks, desc="validate", progress=not here, on_done=report, report_failures=False)
     write_markdown(doc, load_results(results, registry), registry, title_note=title_note)
     print(f"\nwrote {doc}")
     return status
+
+
+def run_named_entry(name, validation_dir, quick, results, img_dir, threads):
+    """Find entry ``name`` in ``validation_dir`` and run it (:func:`run_entry`): a task of
+    seawall.executors, given names and paths only, so a cluster's worker can run it."""
+    entry = all_entries(validation_dir)[name]
+    print(f"\n[{name}] {entry.title}: expected about {_fmt_duration(entry.quick_s if quick else entry.expected_s)}",
+          flush=True)
+    return run_entry(entry, quick=quick, results=results, img_dir=img_dir, threads=threads)
