@@ -159,7 +159,8 @@ def _write_markdown(path, case_name, grid, keys, rows, t_end):
              "| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
     for row in rows:
         cells = [_fmt(row.get(key), kind) for key, kind in fields]
-        cells[-1] = f"[{row['run_dir']}]({row['run_dir']}/summary.json)"
+        if os.path.exists(os.path.join(os.path.dirname(path), row["run_dir"], "summary.json")):   # a failed run has none
+            cells[-1] = f"[{row['run_dir']}]({row['run_dir']}/summary.json)"
         lines.append("| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |")
     with open(path, "w") as fh:
         fh.write("\n".join(lines) + "\n")

@@ -85,6 +85,18 @@ def test_sweep_with_an_unknown_key_stops_in_one_line_before_any_run(tmp_path, ca
     assert code == 2 and "--workers" in err and not out.exists()
 
 
+def test_a_run_that_fails_is_a_row_of_the_table_and_the_exit_code_says_so(tmp_path, capsys):
+    # a regularisation value is checked when the run is built: here the run, not the sweep, fails
+    out = tmp_path / "sw"
+    code, stdout, err = run_cli(["sweep", "hydrostatic", "--set", "dx=0.05", "--set", "shifting=bogus",
+                                 "--t-end", "0.02", "--jobs", "1", "--out", str(out)], capsys)
+    assert code == 3 and "000_dx=0.05_shifting=bogus: failed: ParameterError: shifting must be one of" in err
+    with open(out / "sweep.csv") as fh:
+        (row,) = list(csv.DictReader(fh))
+    assert row["status"].startswith("failed: ParameterError") and row["steps"] == "" and row["shifting"] == "bogus"
+    assert "| failed: ParameterError" in stdout and "summary.json" not in (out / "sweep.md").read_text()
+
+
 # ---------------------------------------------------------------------------- executors
 
 def _sqrt_tasks():
