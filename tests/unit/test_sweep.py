@@ -78,6 +78,11 @@ def test_sweep_with_an_unknown_key_stops_in_one_line_before_any_run(tmp_path, ca
                             "--out", str(out)], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "'alfa'" in err
     assert not out.exists()
+    code, _, err = run_cli(["sweep", "hydrostatic", "--set", "boundary=adami,teflon", "--out", str(out)], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "unknown boundary 'teflon'" in err
+    code, _, err = run_cli(["sweep", "hydrostatic", "--set", "boundary=adami,dbc", "--set", "slip=noslip",
+                            "--out", str(out)], capsys)    # slip is an option of adami, not of dbc
+    assert code == 2 and "no parameter 'slip'" in err and not out.exists()
     code, _, err = run_cli(["sweep", "hydrostatic", "--set", "alpha", "--out", str(out)], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--set expects KEY=VALUE" in err
     code, _, err = run_cli(["sweep", "hydrostatic", "--set", "alpha=1", "--workers", "2", "--out", str(out)],
