@@ -10,6 +10,7 @@ thread count is set before Numba starts; compilation is excluded from the timing
     python benchmarks/bench_engine.py                       # side by side + wall models + start-up
     python benchmarks/bench_engine.py --only side-by-side --rounds 3
     python benchmarks/bench_engine.py --write-doc           # also rewrite docs/performance.md's tables
+    python benchmarks/bench_engine.py --only versus-commit --reference f56cb9a
 
 Parts:
 
@@ -25,6 +26,13 @@ Parts:
 * ``startup``: the default ``seawall bench dam-break`` with an empty Numba cache (a fresh
   ``NUMBA_CACHE_DIR``) and again with the cache it filled: seconds to compile and take the
   first two steps (target 3 of issue 19 for compilation: at most 15 s).
+* ``versus-commit``: the 3D dam break of issue 2's table (dx = 0.01 m: 27,000 fluid + 76,041
+  wall particles, open tank) with 2 threads, in this tree and in an older commit (``--reference``,
+  default f56cb9a, issue 19's baseline) checked out into a temporary git worktree that is
+  removed afterwards. One untimed run in each tree first (it compiles and fills that tree's
+  Numba cache), then per round both trees one after the other, the order alternating between
+  rounds; the speed-up is the reference's time per step over this tree's within a round, median
+  over the rounds (target 2 of issue 19: at least 1.4).
 
 The machine (CPU, cores, load), the commit and Numba's version are printed and written
 with the tables.
@@ -34,6 +42,7 @@ import argparse
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -46,16 +55,24 @@ SIZES = {"80k": 0.0015, "320k": 0.00075}
 # the plain step's sizes compared with them
 PLAIN = {"80k": 100000, "320k": 400000}
 DOC = os.path.join(ROOT, "docs", "performance.md")
+# the 3D dam break of issue 2's table: 27,000 fluid + 76,041 wall particles (103,041)
+DX_3D = 0.01
+# older trees close no lid over the tank; this tree's tank does by default
+SETS_3D = ["lid=false"]
+REFERENCE = "f56cb9a"
 
 
-def seawall_bench(case, dx=None, threads=2, steps=60, boundary=None, env=None):
+def seawall_bench(case, dx=None, threads=2, steps=60, boundary=None, env=None, root=ROOT, sets=()):
     cmd = [sys.executable, "-m", "seawall", "bench", case, "--steps", str(steps), "--threads", str(threads)]
     if dx is not None:
         cmd += ["--dx", str(dx)]
     if boundary:
         cmd += ["--boundary", boundary]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT, env=env)
+    for item in sets:
+        cmd += ["--set", item]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=root, env=env)
     return json.loads(out.stdout.strip().splitlines()[-1])
+
 
 
 def plain_step(path, n, threads=2):
@@ -129,7 +146,67 @@ def startup(args):
     return cold, warm
 
 
-def tables(info, sbs, mods, start, args):
+def imported_from(root):
+    """The directory the package ``seawall`` is imported from when ``python -m`` runs in ``root``."""
+    out = subprocess.run([sys.executable, "-c", "import seawall, os; print(os.path.dirname(seawall.__file__))"],
+                         capture_output=True, text=True, check=True, cwd=root)
+    return os.path.realpath(out.stdout.strip())
+
+
+def versus_commit(args):
+    """This tree against ``args.reference`` on the 3D dam break, 2 threads, interleaved rounds."""
+    tmp = tempfile.mkdtemp(prefix="seawall-reference-")
+    tree = os.path.join(tmp, "tree")
+    subprocess.run(["git", "worktree", "add", "--detach", tree, args.reference], cwd=ROOT, check=True,
+                   capture_output=True, text=True)
+    try:
+        # `python -m` must import each tree's own package, not the installed one
+        for root in (ROOT, tree):
+            where = imported_from(root)
+            if where != os.path.realpath(os.path.join(root, "seawall")):
+                raise SystemExit(f"python -m seawall in {root} imports {where}")
+        env = dict(os.environ, NUMBA_NUM_THREADS="2")
+        runs = {"this": lambda: seawall_bench("dam-break-3d", DX_3D, 2, args.steps_3d, env=env, sets=SETS_3D),
+                "reference": lambda: seawall_bench("dam-break-3d", DX_3D, 2, args.steps_3d, env=env, root=tree)}
+        warm = {name: run() for name, run in runs.items()}   # compiles; fills each tree's cache
+        for name, rec in warm.items():
+            print(f"warm-up {name}: compile + 2 steps {rec['compile_seconds']:.1f} s, {rec['n_particles']:,} particles",
+                  flush=True)
+        rounds = []
+        for r in range(args.rounds):
+            order = ("reference", "this") if r % 2 == 0 else ("this", "reference")
+            rec = {name: runs[name]() for name in order}
+            ms = {name: rec[name]["seconds"] / rec[name]["steps"] * 1e3 for name in rec}
+            row = {"ms_this": ms["this"], "ms_reference": ms["reference"], "speedup": ms["reference"] / ms["this"],
+                   "n_this": rec["this"]["n_particles"], "n_reference": rec["reference"]["n_particles"],
+                   "load": os.getloadavg()[0]}
+            rounds.append(row)
+            print(f"round {r + 1}: reference {ms['reference']:.1f} ms/step, this {ms['this']:.1f} ms/step, "
+                  f"speed-up {row['speedup']:.2f} (load {row['load']:.1f})", flush=True)
+    finally:
+        subprocess.run(["git", "worktree", "remove", "--force", tree], cwd=ROOT, capture_output=True)
+        subprocess.run(["git", "worktree", "prune"], cwd=ROOT, capture_output=True)
+        shutil.rmtree(tmp, ignore_errors=True)
+    return {"reference": args.reference, "rounds": rounds}
+
+
+def versus_commit_table(head, vs, args):
+    """The ``versus-commit`` block: one line of figures and the per-round ratios."""
+    med = statistics.median
+    rs = vs["rounds"]
+    loads = [r["load"] for r in rs]
+    return "\n".join([
+        head, "",
+        f"| 3D dam break, dx = {DX_3D} m, Adami, 2 threads | particles | {vs['reference']} ms/step | "
+        "this tree ms/step | speed-up (median of rounds) | per round |",
+        "| --- | --- | --- | --- | --- | --- |",
+        f"| {args.steps_3d} timed steps per run | {rs[0]['n_this']:,} (reference: {rs[0]['n_reference']:,}) | "
+        f"{med(r['ms_reference'] for r in rs):.1f} | {med(r['ms_this'] for r in rs):.1f} | "
+        f"**{med(r['speedup'] for r in rs):.2f}** | " + ", ".join(f"{r['speedup']:.2f}" for r in rs) + " |",
+        "", f"Load average after the rounds: {', '.join(f'{x:.1f}' for x in loads)} (target 2 of issue 19: at least 1.4)."])
+
+
+def tables(info, sbs, mods, start, args, vs=None):
     """Markdown per part measured: {part: text}, each headed by the machine line."""
     med = statistics.median
     head = (f"Measured {info['date']} on {info['cpu']} ({info['cores']} cores, shared: load average "
@@ -164,6 +241,8 @@ def tables(info, sbs, mods, start, args):
         parts["startup"] = "\n".join([head, "", "Start-up of `seawall bench dam-break` (default resolution; compile + "
                                       f"first two steps): {start[0]:.1f} s from an empty Numba cache, {start[1]:.2f} s "
                                       "with the cache filled."])
+    if vs:
+        parts["versus-commit"] = versus_commit_table(head, vs, args)
     return parts
 
 
@@ -176,24 +255,30 @@ def write_doc(parts):
                       append=True)
 
 
+PARTS = ("side-by-side", "models", "startup", "versus-commit")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--steps", type=int, default=100, help="timed steps at 80k (a quarter of them at 320k)")
-    parser.add_argument("--only", choices=("side-by-side", "models", "startup"), action="append")
+    parser.add_argument("--only", choices=PARTS, action="append")
     parser.add_argument("--plain", default=os.path.join(ROOT, "..", "shared", "bench", "plain_step.py"),
                         help="the plain step of issue 19 (default ../shared/bench/plain_step.py beside the checkout)")
     parser.add_argument("--model-dx", type=float, default=0.0015)
     parser.add_argument("--model-steps", type=int, default=40)
+    parser.add_argument("--reference", default=REFERENCE, help="the older commit of the versus-commit part")
+    parser.add_argument("--steps-3d", type=int, default=40, help="timed steps of each 3D dam break run")
     parser.add_argument("--write-doc", action="store_true", help="rewrite the tables in docs/performance.md")
     args = parser.parse_args(argv)
-    parts = args.only or ["side-by-side", "models", "startup"]
+    parts = args.only or list(PARTS)
     info = machine()
     print(json.dumps(info), flush=True)
     sbs = side_by_side(args) if "side-by-side" in parts else None
     mods = models(args) if "models" in parts else None
     start = startup(args) if "startup" in parts else None
-    parts = tables(info, sbs, mods, start, args)
+    vs = versus_commit(args) if "versus-commit" in parts else None
+    parts = tables(info, sbs, mods, start, args, vs)
     print("\n\n".join(parts.values()))
     if args.write_doc:
         write_doc(parts)
