@@ -258,7 +258,7 @@ def write_doc(parts):
 PARTS = ("side-by-side", "models", "startup", "versus-commit")
 
 
-def main(argv=None):
+def build_parser():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--steps", type=int, default=100, help="timed steps at 80k (a quarter of them at 320k)")
@@ -268,9 +268,13 @@ def main(argv=None):
     parser.add_argument("--model-dx", type=float, default=0.0015)
     parser.add_argument("--model-steps", type=int, default=40)
     parser.add_argument("--reference", default=REFERENCE, help="the older commit of the versus-commit part")
-    parser.add_argument("--steps-3d", type=int, default=40, help="timed steps of each 3D dam break run")
+    parser.add_argument("--steps-3d", type=int, default=60, help="timed steps of each 3D dam break run")
     parser.add_argument("--write-doc", action="store_true", help="rewrite the tables in docs/performance.md")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
     parts = args.only or list(PARTS)
     info = machine()
     print(json.dumps(info), flush=True)
