@@ -26,10 +26,14 @@ def test_versus_commit_block_gives_the_median_speedup_and_every_round(tmp_path, 
               {"ms_this": 40.0, "ms_reference": 60.0, "n_this": 103041, "n_reference": 103041, "load": 4.0}]
     for r in rounds:
         r["speedup"] = r["ms_reference"] / r["ms_this"]
+        r["cpu_this"], r["cpu_reference"] = 2 * r["ms_this"], 3 * r["ms_reference"]
+        r["cpu_speedup"] = r["cpu_reference"] / r["cpu_this"]
     text = bench_engine.versus_commit_table("HEAD LINE", {"reference": "f56cb9a", "rounds": rounds}, args)
     assert text.startswith("HEAD LINE\n")
     # medians: reference 72.0, this 50.0, speed-up median of 1.60, 1.20, 1.50 = 1.50
-    assert "| 30 timed steps per run | 103,041 (reference: 103,041) | 72.0 | 50.0 | **1.50** | 1.60, 1.20, 1.50 |" in text
+    assert ("| 103,041 (reference: 103,041) | 72.0 | 50.0 | **1.50** | 1.60, 1.20, 1.50 | 216.0 / 100.0 | **2.25** | "
+            "2.40, 1.80, 2.25 |") in text
+    assert "30 timed steps per run" in text
     doc = tmp_path / "performance.md"
     doc.write_text("prose\n<!-- bench_engine:versus-commit:begin -->\nold\n<!-- bench_engine:versus-commit:end -->\nmore\n")
     monkeypatch.setattr(bench_engine, "DOC", str(doc))
