@@ -29,10 +29,11 @@ Parts:
 * ``versus-commit``: the 3D dam break of issue 2's table (dx = 0.01 m: 27,000 fluid + 76,041
   wall particles, open tank) with 2 threads, in this tree and in an older commit (``--reference``,
   default f56cb9a, issue 19's baseline) checked out into a temporary git worktree that is
-  removed afterwards. One untimed run in each tree first (it compiles and fills that tree's
-  Numba cache), then per round both trees one after the other, the order alternating between
-  rounds; the speed-up is the reference's time per step over this tree's within a round, median
-  over the rounds (target 2 of issue 19: at least 1.4).
+  removed afterwards; the same driver (``DRIVER``, run by ``python -c`` in each tree) times the
+  steps by wall clock and by the CPU time of the process. One untimed run in each tree first (it
+  compiles and fills that tree's Numba cache), then per round both trees one after the other, the
+  order alternating between rounds; the speed-up is the reference's time per step over this
+  tree's within a round, median over the rounds (target 2 of issue 19: at least 1.4).
 
 The machine (CPU, cores, load), the commit and Numba's version are printed and written
 with the tables.
