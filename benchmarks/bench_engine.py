@@ -7,7 +7,7 @@ their speed drifts by 2x within minutes: only ratios measured side by side mean
 anything. Every configuration runs in a fresh process (``seawall bench``), so the
 thread count is set before Numba starts; compilation is excluded from the timing.
 
-    python benchmarks/bench_engine.py                       # side by side + wall models + start-up
+    python benchmarks/bench_engine.py                       # every part (side by side, models, start-up, versus-commit)
     python benchmarks/bench_engine.py --only side-by-side --rounds 3
     python benchmarks/bench_engine.py --write-doc           # also rewrite docs/performance.md's tables
     python benchmarks/bench_engine.py --only versus-commit --reference f56cb9a
