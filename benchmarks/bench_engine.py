@@ -242,12 +242,20 @@ def versus_commit_table(head, vs, args):
         "(target 2 of issue 19: at least 1.4x in time per step)."])
 
 
+def command_line(args):
+    """The options a measurement was made with, as they would be typed (parts, rounds, steps)."""
+    words = [f"--only {part}" for part in args.only or ()] + [f"--rounds {args.rounds}"]
+    if not args.only or "versus-commit" in args.only:
+        words.append(f"--steps-3d {args.steps_3d}")
+    return " ".join(words)
+
+
 def tables(info, sbs, mods, start, args, vs=None):
     """Markdown per part measured: {part: text}, each headed by the machine line."""
     med = statistics.median
     head = (f"Measured {info['date']} on {info['cpu']} ({info['cores']} cores, shared: load average "
             f"{info['load']:.1f} at the start), commit {info['commit']}, Numba {info['numba']}; "
-            f"`python benchmarks/bench_engine.py --rounds {args.rounds}`.")
+            f"`python benchmarks/bench_engine.py {command_line(args)}`.")
     parts = {}
     if sbs:
         lines = [head, "", "| dam break, Adami + delta-SPH, 2 threads | particles | plain step M p-steps/s | "

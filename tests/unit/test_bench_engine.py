@@ -14,8 +14,10 @@ def test_versus_commit_is_a_part_with_its_reference_and_steps():
     args = bench_engine.build_parser().parse_args(["--only", "versus-commit", "--reference", "abc1234",
                                                     "--steps-3d", "7", "--rounds", "2"])
     assert args.only == ["versus-commit"] and args.reference == "abc1234" and args.steps_3d == 7
+    assert bench_engine.command_line(args) == "--only versus-commit --rounds 2 --steps-3d 7"
     defaults = bench_engine.build_parser().parse_args([])
     assert defaults.reference == "f56cb9a" and defaults.only is None
+    assert bench_engine.command_line(defaults) == "--rounds 3 --steps-3d 60"
     assert "versus-commit" in bench_engine.PARTS
 
 
