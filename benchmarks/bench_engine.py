@@ -7,9 +7,10 @@ their speed drifts by 2x within minutes: only ratios measured side by side mean
 anything. Every configuration runs in a fresh process (``seawall bench``), so the
 thread count is set before Numba starts; compilation is excluded from the timing.
 
-    python benchmarks/bench_engine.py                       # side by side + wall models + start-up
+    python benchmarks/bench_engine.py                       # every part (side by side, models, start-up, versus-commit)
     python benchmarks/bench_engine.py --only side-by-side --rounds 3
     python benchmarks/bench_engine.py --write-doc           # also rewrite docs/performance.md's tables
+    python benchmarks/bench_engine.py --only versus-commit --reference f56cb9a
 
 Parts:
 
@@ -25,6 +26,14 @@ Parts:
 * ``startup``: the default ``seawall bench dam-break`` with an empty Numba cache (a fresh
   ``NUMBA_CACHE_DIR``) and again with the cache it filled: seconds to compile and take the
   first two steps (target 3 of issue 19 for compilation: at most 15 s).
+* ``versus-commit``: the 3D dam break of issue 2's table (dx = 0.01 m: 27,000 fluid + 76,041
+  wall particles, open tank) with 2 threads, in this tree and in an older commit (``--reference``,
+  default f56cb9a, issue 19's baseline) checked out into a temporary git worktree that is
+  removed afterwards; the same driver (``DRIVER``, run by ``python -c`` in each tree) times the
+  steps by wall clock and by the CPU time of the process. One untimed run in each tree first (it
+  compiles and fills that tree's Numba cache), then per round both trees one after the other, the
+  order alternating between rounds; the speed-up is the reference's time per step over this
+  tree's within a round, median over the rounds (target 2 of issue 19: at least 1.4).
 
 The machine (CPU, cores, load), the commit and Numba's version are printed and written
 with the tables.
@@ -34,6 +43,7 @@ import argparse
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -46,16 +56,24 @@ SIZES = {"80k": 0.0015, "320k": 0.00075}
 # the plain step's sizes compared with them
 PLAIN = {"80k": 100000, "320k": 400000}
 DOC = os.path.join(ROOT, "docs", "performance.md")
+# the 3D dam break of issue 2's table: 27,000 fluid + 76,041 wall particles (103,041)
+DX_3D = 0.01
+# older trees close no lid over the tank; this tree's tank does by default
+SETS_3D = ["lid=false"]
+REFERENCE = "f56cb9a"
 
 
-def seawall_bench(case, dx=None, threads=2, steps=60, boundary=None, env=None):
+def seawall_bench(case, dx=None, threads=2, steps=60, boundary=None, env=None, root=ROOT, sets=()):
     cmd = [sys.executable, "-m", "seawall", "bench", case, "--steps", str(steps), "--threads", str(threads)]
     if dx is not None:
         cmd += ["--dx", str(dx)]
     if boundary:
         cmd += ["--boundary", boundary]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT, env=env)
+    for item in sets:
+        cmd += ["--set", item]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=root, env=env)
     return json.loads(out.stdout.strip().splitlines()[-1])
+
 
 
 def plain_step(path, n, threads=2):
@@ -129,12 +147,115 @@ def startup(args):
     return cold, warm
 
 
-def tables(info, sbs, mods, start, args):
+def imported_from(root):
+    """The directory the package ``seawall`` is imported from when ``python -m`` runs in ``root``."""
+    out = subprocess.run([sys.executable, "-c", "import seawall, os; print(os.path.dirname(seawall.__file__))"],
+                         capture_output=True, text=True, check=True, cwd=root)
+    return os.path.realpath(out.stdout.strip())
+
+
+# Run in each tree by `python -c` (its own package first on the path): the same build and timing
+# code for both, so that the older tree's `seawall bench` (which reported no CPU time) does not matter.
+DRIVER = """
+import json, sys, time
+from seawall.cases import case_by_name
+dx, steps, sets = float(sys.argv[1]), int(sys.argv[2]), json.loads(sys.argv[3])
+sim = case_by_name("dam-break-3d").build(boundary="adami", threads=2, dx=dx, **sets)
+sim.run_steps(2)
+w0, c0 = time.perf_counter(), time.process_time()
+sim.run_steps(steps)
+w, c = time.perf_counter() - w0, time.process_time() - c0
+n = sim.fluid.n + sum(w.n for w in sim.walls)
+print(json.dumps({"n_particles": n, "steps": steps, "seconds": w, "cpu_seconds": c}))
+"""
+
+
+def drive_3d(root, steps, sets, env):
+    """The 3D dam break in the tree ``root``: time and CPU time (all threads) of ``steps`` steps after two."""
+    out = subprocess.run([sys.executable, "-c", DRIVER, str(DX_3D), str(steps), json.dumps(sets)],
+                         capture_output=True, text=True, check=True, cwd=root, env=env)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def versus_commit(args):
+    """This tree against ``args.reference`` on the 3D dam break, 2 threads, interleaved rounds."""
+    tmp = tempfile.mkdtemp(prefix="seawall-reference-")
+    tree = os.path.join(tmp, "tree")
+    subprocess.run(["git", "worktree", "add", "--detach", tree, args.reference], cwd=ROOT, check=True,
+                   capture_output=True, text=True)
+    try:
+        # `python -c` must import each tree's own package, not the installed one
+        for root in (ROOT, tree):
+            where = imported_from(root)
+            if where != os.path.realpath(os.path.join(root, "seawall")):
+                raise SystemExit(f"python -c in {root} imports seawall from {where}")
+        env = dict(os.environ, NUMBA_NUM_THREADS="2", OMP_WAIT_POLICY="PASSIVE")
+        sets = dict(item.split("=", 1) for item in SETS_3D)
+        sets = {key: value.lower() == "true" if value.lower() in ("true", "false") else value
+                for key, value in sets.items()}
+        runs = {"this": lambda: drive_3d(ROOT, args.steps_3d, sets, env),
+                "reference": lambda: drive_3d(tree, args.steps_3d, {}, env)}
+        for name, run in runs.items():   # compiles; fills each tree's Numba cache
+            t0 = time.perf_counter()
+            rec = run()
+            print(f"warm-up {name}: {time.perf_counter() - t0:.0f} s with compilation, {rec['n_particles']:,} particles",
+                  flush=True)
+        rounds = []
+        for r in range(args.rounds):
+            order = ("reference", "this") if r % 2 == 0 else ("this", "reference")
+            rec = {name: runs[name]() for name in order}
+            ms = {name: rec[name]["seconds"] / rec[name]["steps"] * 1e3 for name in rec}
+            cpu = {name: rec[name]["cpu_seconds"] / rec[name]["steps"] * 1e3 for name in rec}
+            row = {"ms_this": ms["this"], "ms_reference": ms["reference"], "speedup": ms["reference"] / ms["this"],
+                   "cpu_this": cpu["this"], "cpu_reference": cpu["reference"],
+                   "cpu_speedup": cpu["reference"] / cpu["this"],
+                   "n_this": rec["this"]["n_particles"], "n_reference": rec["reference"]["n_particles"],
+                   "load": os.getloadavg()[0]}
+            rounds.append(row)
+            print(f"round {r + 1}: reference {ms['reference']:.1f} ms/step ({cpu['reference']:.1f} CPU), this "
+                  f"{ms['this']:.1f} ms/step ({cpu['this']:.1f} CPU), speed-up {row['speedup']:.2f} "
+                  f"(CPU {row['cpu_speedup']:.2f}; load {row['load']:.1f})", flush=True)
+    finally:
+        subprocess.run(["git", "worktree", "remove", "--force", tree], cwd=ROOT, capture_output=True)
+        subprocess.run(["git", "worktree", "prune"], cwd=ROOT, capture_output=True)
+        shutil.rmtree(tmp, ignore_errors=True)
+    return {"reference": args.reference, "rounds": rounds}
+
+
+def versus_commit_table(head, vs, args):
+    """The ``versus-commit`` block: time and CPU time per step in both trees, the speed-ups per round."""
+    med = statistics.median
+    rs = vs["rounds"]
+    loads = [r["load"] for r in rs]
+    return "\n".join([
+        head, "",
+        f"| 3D dam break, dx = {DX_3D} m, Adami, 2 threads, {args.steps_3d} timed steps per run | particles | "
+        f"{vs['reference']} ms/step | this tree ms/step | speed-up (median of rounds) | per round | "
+        f"CPU ms/step {vs['reference']} / this tree | CPU speed-up (median) | per round |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        f"| wall time and CPU time of the process | {rs[0]['n_this']:,} (reference: {rs[0]['n_reference']:,}) | "
+        f"{med(r['ms_reference'] for r in rs):.1f} | {med(r['ms_this'] for r in rs):.1f} | "
+        f"**{med(r['speedup'] for r in rs):.2f}** | " + ", ".join(f"{r['speedup']:.2f}" for r in rs) + " | "
+        f"{med(r['cpu_reference'] for r in rs):.1f} / {med(r['cpu_this'] for r in rs):.1f} | "
+        f"**{med(r['cpu_speedup'] for r in rs):.2f}** | " + ", ".join(f"{r['cpu_speedup']:.2f}" for r in rs) + " |",
+        "", f"Load average after each round: {', '.join(f'{x:.1f}' for x in loads)} "
+        "(target 2 of issue 19: at least 1.4x in time per step)."])
+
+
+def command_line(args):
+    """The options a measurement was made with, as they would be typed (parts, rounds, steps)."""
+    words = [f"--only {part}" for part in args.only or ()] + [f"--rounds {args.rounds}"]
+    if not args.only or "versus-commit" in args.only:
+        words.append(f"--steps-3d {args.steps_3d}")
+    return " ".join(words)
+
+
+def tables(info, sbs, mods, start, args, vs=None):
     """Markdown per part measured: {part: text}, each headed by the machine line."""
     med = statistics.median
     head = (f"Measured {info['date']} on {info['cpu']} ({info['cores']} cores, shared: load average "
             f"{info['load']:.1f} at the start), commit {info['commit']}, Numba {info['numba']}; "
-            f"`python benchmarks/bench_engine.py --rounds {args.rounds}`.")
+            f"`python benchmarks/bench_engine.py {command_line(args)}`.")
     parts = {}
     if sbs:
         lines = [head, "", "| dam break, Adami + delta-SPH, 2 threads | particles | plain step M p-steps/s | "
@@ -164,6 +285,8 @@ def tables(info, sbs, mods, start, args):
         parts["startup"] = "\n".join([head, "", "Start-up of `seawall bench dam-break` (default resolution; compile + "
                                       f"first two steps): {start[0]:.1f} s from an empty Numba cache, {start[1]:.2f} s "
                                       "with the cache filled."])
+    if vs:
+        parts["versus-commit"] = versus_commit_table(head, vs, args)
     return parts
 
 
@@ -176,24 +299,34 @@ def write_doc(parts):
                       append=True)
 
 
-def main(argv=None):
+PARTS = ("side-by-side", "models", "startup", "versus-commit")
+
+
+def build_parser():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--steps", type=int, default=100, help="timed steps at 80k (a quarter of them at 320k)")
-    parser.add_argument("--only", choices=("side-by-side", "models", "startup"), action="append")
+    parser.add_argument("--only", choices=PARTS, action="append")
     parser.add_argument("--plain", default=os.path.join(ROOT, "..", "shared", "bench", "plain_step.py"),
                         help="the plain step of issue 19 (default ../shared/bench/plain_step.py beside the checkout)")
     parser.add_argument("--model-dx", type=float, default=0.0015)
     parser.add_argument("--model-steps", type=int, default=40)
+    parser.add_argument("--reference", default=REFERENCE, help="the older commit of the versus-commit part")
+    parser.add_argument("--steps-3d", type=int, default=60, help="timed steps of each 3D dam break run")
     parser.add_argument("--write-doc", action="store_true", help="rewrite the tables in docs/performance.md")
-    args = parser.parse_args(argv)
-    parts = args.only or ["side-by-side", "models", "startup"]
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    parts = args.only or list(PARTS)
     info = machine()
     print(json.dumps(info), flush=True)
     sbs = side_by_side(args) if "side-by-side" in parts else None
     mods = models(args) if "models" in parts else None
     start = startup(args) if "startup" in parts else None
-    parts = tables(info, sbs, mods, start, args)
+    vs = versus_commit(args) if "versus-commit" in parts else None
+    parts = tables(info, sbs, mods, start, args, vs)
     print("\n\n".join(parts.values()))
     if args.write_doc:
         write_doc(parts)
