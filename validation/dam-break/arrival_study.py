@@ -39,6 +39,9 @@ EVERY = 2.5e-4
 OUT = os.path.join(ROOT, "validation", "dam-break", "results", "arrival_study.json")
 RUNS = os.path.join(ROOT, "validation", "dam-break", "runs", "arrival_study")
 C10 = 10.0 * math.sqrt(G * H)
+#: the early impact: t* window over which the mean pressure is compared (Buchner's P1 rises to ~0.6 in it)
+EARLY = (2.55, 2.85)
+DATA = os.path.join(ROOT, "data", "buchner2002_dambreak2d_P1")
 
 #: variants: name -> (case parameters beyond the defaults, what they are)
 VARIANTS = {
@@ -136,8 +139,20 @@ def analyse(name, n, info):
         feats[col] = {"arrival": f[0], "first_peak": f[1], "arrival_raw": raw[0], "first_peak_raw": raw[1],
                       "first_nonzero": first_time(tts, (tts > 1.0) & (ps > 0.02)),
                       "p_raw_max": float(np.nanmax(np.where((tts > 2.0) & (tts < 3.3), ps, -np.inf))),
-                      "t_raw_max": float(tts[np.argmax(np.where((tts > 2.0) & (tts < 3.3), ps, -np.inf))])}
+                      "t_raw_max": float(tts[np.argmax(np.where((tts > 2.0) & (tts < 3.3), ps, -np.inf))]),
+                      "early_mean": float(np.mean(ps[(tts > EARLY[0]) & (tts < EARLY[1])]))}
     out["features"] = feats
+    return out
+
+
+def buchner_early():
+    """Mean p* of each digitisation of Buchner's P1 over the EARLY window (linear between the points)."""
+    out = []
+    for name in ("buchner2002_P1_pysph.csv", "buchner2002_P1_jaxsph.csv"):
+        d = np.loadtxt(os.path.join(DATA, name), delimiter=",", skiprows=1)
+        d = d[np.argsort(d[:, 0], kind="stable")]
+        grid = np.linspace(EARLY[0], EARLY[1], 200)
+        out.append(float(np.mean(np.interp(grid, d[:, 0], d[:, 1]))))
     return out
 
 
@@ -159,6 +174,12 @@ def table():
         lines.append(f"| {key} | {fa['3']:.3f} / {fa['4']:.3f} / {fa['5']:.3f} | {r['front_at_wall']:.3f} | "
                      f"{r['wet_P1']:.3f} | {r['run_up_P1']:.3f} | {f['first_nonzero']:.3f} | {f['arrival']:.3f} | "
                      f"{f['arrival_raw']:.3f} | {f['first_peak']:.3f} | {f['p_raw_max']:.3f} at {f['t_raw_max']:.3f} |")
+    early = buchner_early()
+    lines += ["", f"Mean p* over {EARLY[0]:g} < t* < {EARLY[1]:g} (Buchner P1: {early[0]:.3f} / {early[1]:.3f}, "
+              "the two digitisations):", "", "| run | S1 (0.01 H) | S3 (0.1 H) | P1 (0.2 H) |", "| --- | --- | --- | --- |"]
+    for key, r in res.items():
+        f = r["features"]
+        lines.append(f"| {key} | {f['S1']['early_mean']:.3f} | {f['S3']['early_mean']:.3f} | {f['P1']['early_mean']:.3f} |")
     lines += ["", "| run | read-out | arrival | first peak (0.1 t* mean) | largest p* 2-3.3 (raw) |",
               "| --- | --- | --- | --- | --- |"]
     for key, r in res.items():
@@ -181,6 +202,8 @@ def main(argv=None):
         key = f"h{args.n}_{args.variant}"
         res = load()
         info = res.get(key, {}) if args.analyse_only else run(args.variant, args.n, args.t_star)
+        if not info:
+            ap.error(f"{key} is not stored; run it first")
         info = {k: info[k] for k in ("wall_time_s", "steps", "n_fluid", "length", "dx", "support")}
         res = load()
         res[key] = analyse(args.variant, args.n, info)
