@@ -30,7 +30,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, ROOT)
 
 from seawall import cases, probes  # noqa: E402
-from seawall.diagnostics import impact_features, interval_mean, running_mean  # noqa: E402
+from seawall.diagnostics import impact_features, interval_mean, pressure_noise, running_mean  # noqa: E402
 
 H = 0.6
 G = 9.81
@@ -56,6 +56,8 @@ VARIANTS = {
                       "slip": "noslip", "wall_nu": 1.0e-6},
                      "as entry, no-slip walls with water's viscosity nu = 1e-6 m^2/s (Adami wall velocity)"),
     "alpha0.05": ({"alpha": 0.05}, "case defaults with artificial viscosity alpha = 0.05"),
+    "entry-open3": ({"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": C10, "lid": False, "tank_height": 3.0},
+                    "as entry, no lid and walls 3 H high (the case closes the tank at 2 H)"),
 }
 
 
@@ -127,6 +129,10 @@ def analyse(name, n, info):
     out["front_at"] = {f"{x:g}": first_time(ts, d["front"] >= x * H) for x in (3.0, 4.0, 5.0)}
     out["wet_P1"] = first_time(ts, d["wet"] > 0)
     out["run_up_P1"] = first_time(ts, d["run_up"] >= 0.2 * H)
+    out["run_up_2H"] = first_time(ts, d["run_up"] >= 2.0 * H - 0.5 * dx)
+    out["run_up_max"] = float(d["run_up"].max() / H)
+    noise = pressure_noise(*interval_mean(t, d["P1"], EVERY))     # as the entry: on the 0.25 ms means
+    out["noise"] = None if noise is None else noise / (RHO0 * G * H)
     rho_g_h = RHO0 * G * H
     feats = {}
     for col in ("P1", "P1face", "P1half", "P1dx", "S1", "S3"):
@@ -140,7 +146,8 @@ def analyse(name, n, info):
                       "first_nonzero": first_time(tts, (tts > 1.0) & (ps > 0.02)),
                       "p_raw_max": float(np.nanmax(np.where((tts > 2.0) & (tts < 3.3), ps, -np.inf))),
                       "t_raw_max": float(tts[np.argmax(np.where((tts > 2.0) & (tts < 3.3), ps, -np.inf))]),
-                      "early_mean": float(np.mean(ps[(tts > EARLY[0]) & (tts < EARLY[1])]))}
+                      "early_mean": float(np.mean(ps[(tts > EARLY[0]) & (tts < EARLY[1])])),
+                      "plateau": f[2], "secondary_peak": f[3], "secondary_time": f[5]}
     out["features"] = feats
     return out
 
