@@ -10,8 +10,11 @@ validation entry's settings (or a variant) and samples at every step:
 * ``wet``    -- the number of fluid particles within one support of P1 (when is the sensor wet?);
 * ``run_up`` -- the height of the highest fluid particle within 2 dx of the downstream wall.
 
-The step series go to validation/dam-break/runs/arrival_study/ and the derived figures to
-validation/dam-break/results/arrival_study.json. Command::
+Derived per run: when the front passes 3, 4 and 5 H and reaches the wall, when P1 gets wet and the
+run-up passes 0.2 H, the features of :func:`seawall.diagnostics.impact_features` on the 0.25 ms means
+(raw and on the entry's 0.1 t* running mean) for every read-out and for S1 and S3, and the mean p* over
+the early impact (``EARLY``). The step series go to validation/dam-break/runs/arrival_study/ and the
+derived figures to validation/dam-break/results/arrival_study.json. Command::
 
     NUMBA_NUM_THREADS=1 python validation/dam-break/arrival_study.py --n 50 --variant entry [--t-star 3.5]
     python validation/dam-break/arrival_study.py --table
