@@ -373,6 +373,7 @@ def cmd_run(args):
 
     rundir.check_out_path(args.out)
     case, sim = _build(args)
+    comm = _mpi(sim, args)
     record = provenance(args.argv)   # after the build: --threads is applied there
     args.running["sim"] = sim
     t_end = args.t_end or case.t_end
@@ -404,7 +405,7 @@ def cmd_run(args):
         if t_end <= sim.time:
             raise _bad_input(f"--t-end {t_end:g} s must exceed the checkpoint's time {sim.time:g} s")
     _check_intervals(args, sim)
-    rundir.prepare(out, overwrite=args.overwrite, restart=args.restart)
+    _on_root(comm, lambda: rundir.prepare(out, overwrite=args.overwrite, restart=args.restart))
 
     sim.metadata["provenance"] = record
     if args.restart:
@@ -423,7 +424,10 @@ def cmd_run(args):
     else:
         what = (f"boundary {args.boundary}, {sim.dim}D, {sim.fluid.n} fluid + {sum(w.n for w in sim.walls)} wall "
                 f"particles, dx = {sim.fluid.spacing:g} m")
-    print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
+    if comm is not None:
+        what += f", {comm.Get_size()} MPI ranks"
+    if comm is None or comm.Get_rank() == 0:
+        print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
     status, error, code = "completed", None, 0
     result = None
     try:
@@ -458,6 +462,8 @@ def cmd_run(args):
                         [f"wall_{w.name}.pvd" for w in sim.walls],
                         "checkpoint": "checkpoint.h5", "escaped": "escaped.csv",
                         **({"lines": line_files} if line_files else {})}
+    if comm is not None and comm.Get_rank() != 0:   # rank 0 writes the run's files and prints
+        return code
     for name, write in (("escaped.csv", lambda path: _write_escaped(path, sim)),
                         ("summary.json", lambda path: rundir.write_json(path, _jsonable(summary)))):
         try:
@@ -471,6 +477,37 @@ def cmd_run(args):
     if error:
         print(f"seawall: {'interrupted' if status == 'interrupted' else 'error'}: {error}", file=sys.stderr)
     return code
+
+
+def _mpi(sim, args):
+    """Under mpiexec with several ranks: make ``sim`` one rank of a decomposed run (seawall.parallel)."""
+    from . import parallel
+    from .errors import ParameterError
+
+    comm = parallel.world()
+    if comm is None:
+        return None
+    if args.line:
+        raise ParameterError("--line: the line sampler is not decomposed; run it in one process")
+    parallel.distribute(sim, comm, argv=args.argv)
+    return comm
+
+
+def _on_root(comm, action):
+    """Run ``action`` on rank 0 only (all of it in a serial run); a refusal there stops every rank."""
+    from .errors import ParameterError
+
+    if comm is None:
+        return action()
+    message = None
+    if comm.Get_rank() == 0:
+        try:
+            action()
+        except ParameterError as exc:
+            message = str(exc)
+    message = comm.bcast(message, root=0)
+    if message is not None:
+        raise ParameterError(message)
 
 
 def _add_wall_force(sim, case, name):
@@ -771,7 +808,10 @@ def main(argv=None):
                 return handlers[args.command](args)
         return handlers[args.command](args)
     except ParameterError as exc:
-        print(f"seawall: error: {exc}", file=sys.stderr)
+        from .parallel import launched_rank
+
+        if launched_rank() == 0:   # under mpiexec every rank stops; rank 0 says why
+            print(f"seawall: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt as exc:
         # before a run directory was prepared (or in a command without one): nothing to keep
