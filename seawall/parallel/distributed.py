@@ -117,6 +117,7 @@ def distribute(sim, comm, argv=()):
     base = type(sim)
     sim.__class__ = type(f"Distributed{base.__name__}", (DistributedSimulation, base), {})
     sim._mpi_setup(comm, argv)
+    sim._check_agreement()     # before any file is touched; again when the run starts (after a restart)
     return sim
 
 
@@ -237,8 +238,8 @@ class DistributedSimulation:
         return out
 
     # ---------------------------------------------------------------- splitting, migration, halos
-    def _split(self):
-        """Check that the ranks hold the same input, cut the domain and keep this rank's slab."""
+    def _check_agreement(self):
+        """Every rank must hold the same command, case and state (a decomposed run splits one state)."""
         fp = self.fluid.particles
         digest = _digest(self._argv, fp["x"], fp["v"], fp["rho"], fp["m"], fp["id"], self.time, self.step,
                          tuple(self.physics), [w.n for w in self.walls], self.metadata.get("case_sha256"))
@@ -247,6 +248,11 @@ class DistributedSimulation:
             differ = [r for r, d in enumerate(digests) if d != digests[0]]
             raise ParameterError(f"MPI: the ranks disagree on the input (ranks {differ} differ from rank 0 in "
                                  f"their arguments, case or state); start every rank with the same command")
+
+    def _split(self):
+        """Check that the ranks hold the same input, cut the domain and keep this rank's slab."""
+        self._check_agreement()
+        fp = self.fluid.particles
         coord = fp["x"][:, self.cut_axis]
         counts = slabs.histogram(coord, self.grid.lo[self.cut_axis], self._bin, self._nbins)
         cuts = slabs.quantile_cuts(counts, self.grid.lo[self.cut_axis], self._bin, self.nranks)
