@@ -487,7 +487,7 @@ def _mpi(sim, args):
     comm = parallel.world()
     if comm is None:
         return None
-    if args.line:
+    if getattr(args, "line", None):
         raise ParameterError("--line: the line sampler is not decomposed; run it in one process")
     parallel.distribute(sim, comm, argv=args.argv)
     return comm
@@ -753,12 +753,15 @@ def cmd_bench(args):
     from .simulation import Simulation  # noqa: F401  (import cost outside the timing)
 
     case, sim = _build(args)
+    comm = _mpi(sim, args)
+    # what one step updates: fluid and wall particles (SPH), the elements (DEM: its walls are fixed);
+    # counted before a decomposed run splits the fluid
+    n_particles = sim.particles_per_step()
+    n_fluid = sim.fluid.n if hasattr(sim, "fluid") else 0
     t0 = time.perf_counter()
     sim.run_steps(2)  # compiles (or loads the cache) and warms up
     compile_s = time.perf_counter() - t0
     n_wall = sum(w.n for w in sim.walls)
-    # what one step updates: fluid and wall particles (SPH), the elements (DEM: its walls are fixed)
-    n_particles = sim.particles_per_step()
     fluid = getattr(sim, "fluid", None)
     # timed in chunks: on a shared machine single timings scatter by +-15 %, so the
     # median and best chunk are reported beside the overall rate
@@ -778,7 +781,7 @@ def cmd_bench(args):
 
     rates.sort()
     line = {"case": case.name, "boundary": args.boundary, "dimension": sim.dim,
-            "n_particles": n_particles, "n_fluid": fluid.n if fluid is not None else 0, "n_wall": n_wall,
+            "n_particles": n_particles, "n_fluid": n_fluid, "n_wall": n_wall,
             **({"n_dem": sim.dem.n} if hasattr(sim, "dem") else {}),
             "steps": args.steps, "seconds": seconds,
             "particle_steps_per_s": n_particles * args.steps / seconds,
@@ -786,6 +789,13 @@ def cmd_bench(args):
             "best_chunk_particle_steps_per_s": rates[-1],
             "compile_seconds": compile_s, "threads": numba.get_num_threads(), "cpu_seconds": cpu_seconds,
             "dx": fluid.spacing if fluid is not None else None}
+    if comm is not None:   # a decomposed run: rank 0's timings (the ranks step together), the ranks' CPU time
+        stats = sim.summary_so_far()["mpi"]
+        line.update(ranks=comm.Get_size(), cpu_seconds=comm.allreduce(cpu_seconds),
+                    halo_fraction=stats["halo_fraction"], comm_seconds_max_rank=stats["comm_seconds_max_rank"],
+                    comm_seconds_per_step=stats["comm_seconds_max_rank"] / (args.steps + 2))
+        if comm.Get_rank() != 0:
+            return 0
     print(json.dumps(line))
     return 0
 
