@@ -52,6 +52,8 @@ from . import slabs
 
 #: kernel supports of margin beyond the dependency depth (motion during one step)
 MARGIN_SUPPORTS = 1.0
+#: signal names a stop may carry (seawall.interrupts), in the order a reduction by max prefers
+SIGNALS = ("SIGINT", "SIGTERM")
 #: check the balance every this many steps
 REBALANCE_EVERY = 50
 #: rebalance when the largest rank holds more than (1 + this) times the mean
@@ -213,6 +215,15 @@ class DistributedSimulation:
 
         started = _time.perf_counter()
         out = self.comm.allreduce(value, op={"sum": MPI.SUM, "max": MPI.MAX, "min": MPI.MIN}[op])
+        self.mpi_stats["comm_seconds"] += _time.perf_counter() - started
+        return out
+
+    def _allreduce_array(self, local, op="sum"):
+        from mpi4py import MPI
+
+        started = _time.perf_counter()
+        out = np.empty_like(local)
+        self.comm.Allreduce(local, out, op={"sum": MPI.SUM, "max": MPI.MAX, "min": MPI.MIN}[op])
         self.mpi_stats["comm_seconds"] += _time.perf_counter() - started
         return out
 
@@ -387,7 +398,7 @@ class DistributedSimulation:
         if self.wall_forces:
             names = sorted(self.wall_forces)
             local = np.concatenate([self.wall_forces[n] for n in names])
-            total = self._allreduce(local)
+            total = self._allreduce_array(local)
             for k, n in enumerate(names):
                 self.wall_forces[n] = total[k * self.dim:(k + 1) * self.dim]
 
@@ -446,7 +457,13 @@ class DistributedSimulation:
         codes = self._guard_codes()
         codes[n:] = KEEP                     # halo rows are their owners' to judge
         bad = np.flatnonzero(codes != KEEP)
-        if self._allreduce(int(bad.size)) == 0:
+        # one reduction per step also carries a stop asked for by a signal: every rank stops after
+        # the same step (a rank stopping alone would leave the others waiting in the next exchange)
+        signal = SIGNALS.index(self.stop_requested) + 1 if self.stop_requested in SIGNALS else 0
+        n_bad, signal = self._allreduce_array(np.array([bad.size, signal], dtype=np.int64), "max")
+        if signal and self.stop_requested is None:
+            self.stop_requested = SIGNALS[int(signal) - 1]
+        if n_bad == 0:
             return
         records = [((self.time, int(fp["id"][k]), *fp["x"][k].tolist(), reason_name(int(codes[k]))),
                     float(fp["m"][k])) for k in bad]
