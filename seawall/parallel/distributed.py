@@ -120,6 +120,7 @@ def distribute(sim, comm, argv=()):
     sim.__class__ = type(f"Distributed{base.__name__}", (DistributedSimulation, base), {})
     sim._mpi_setup(comm, argv)
     sim._check_agreement()     # before any file is touched; again when the run starts (after a restart)
+    sim._plan_cuts()
     return sim
 
 
@@ -196,7 +197,11 @@ class DistributedSimulation:
         self.halo_depth = halo_depth(self)
         self.halo_width = (self.halo_depth + MARGIN_SUPPORTS) * support
         g = self.grid
-        self.cut_axis = slabs.longest_axis(g.lo[:self.dim], g.hi[:self.dim], g.periodic)
+        # the longest axis of what the particles occupy (the domain box is grown upwards for splashes)
+        boxes = [self.fluid.particles["x"]] + [w.x for w in self.walls if w.n]
+        lo = np.min([b.min(axis=0) for b in boxes], axis=0)
+        hi = np.max([b.max(axis=0) for b in boxes], axis=0)
+        self.cut_axis = slabs.longest_axis(lo, hi, g.periodic)
         self._bin = g.cell_size[self.cut_axis]
         self._nbins = int(g.ncell[self.cut_axis])
         self._n_own = None          # None until the particles are split
@@ -264,20 +269,29 @@ class DistributedSimulation:
         """Check that the ranks hold the same input, cut the domain and keep this rank's slab."""
         self._check_agreement()
         fp = self.fluid.particles
-        coord = fp["x"][:, self.cut_axis]
-        counts = slabs.histogram(coord, self.grid.lo[self.cut_axis], self._bin, self._nbins)
-        cuts = slabs.quantile_cuts(counts, self.grid.lo[self.cut_axis], self._bin, self.nranks)
-        owner = slabs.owners(coord, cuts)
-        per_rank = np.bincount(owner, minlength=self.nranks)
-        if per_rank.min() == 0:
-            usable = int(np.count_nonzero(counts))
-            raise ParameterError(
-                f"MPI: {self.nranks} ranks are more than the fluid allows: it spans {usable} cells of "
-                f"{self._bin:.3g} m along axis {'xyz'[self.cut_axis]} and rank {int(np.argmin(per_rank))} would own "
-                f"no particle; use at most {max(1, usable // 2)} ranks")
+        cuts, owner = self._plan_cuts()
         fp.keep(owner == self.rank)
         self._cuts = cuts
         self._n_own = fp.n
+
+    def _plan_cuts(self):
+        """Cuts of the whole fluid (held by every rank before the split) and each particle's owner;
+        ParameterError when a rank would own no particle."""
+        coord = self.fluid.particles["x"][:, self.cut_axis]
+        lo = self.grid.lo[self.cut_axis]
+        counts = slabs.histogram(coord, lo, self._bin, self._nbins)
+        cuts = slabs.quantile_cuts(counts, lo, self._bin, self.nranks)
+        owner = slabs.owners(coord, cuts)
+        per_rank = np.bincount(owner, minlength=self.nranks)
+        if per_rank.min() == 0:
+            usable = next(n for n in range(self.nranks - 1, 0, -1)
+                          if np.bincount(slabs.owners(coord, slabs.quantile_cuts(counts, lo, self._bin, n)),
+                                         minlength=n).min() > 0)
+            raise ParameterError(
+                f"MPI: {self.nranks} ranks are more than the fluid allows: it spans "
+                f"{int(np.count_nonzero(counts))} cells of {self._bin:.3g} m along axis {'xyz'[self.cut_axis]} "
+                f"and rank {int(np.argmin(per_rank))} would own no particle; use at most {usable} ranks")
+        return cuts, owner
 
     def _strip_halo(self):
         fp = self.fluid.particles

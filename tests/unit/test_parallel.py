@@ -173,3 +173,15 @@ def test_ranks_that_disagree_on_the_input_stop(tmp_path):
     lines = [line for line in done.stderr.splitlines() if line.startswith("seawall:")]
     assert len(lines) == 1 and "the ranks disagree on the input (ranks [1] differ from rank 0" in lines[0]
     assert not (tmp_path / "b").exists()
+
+
+@needs_mpi
+def test_more_ranks_than_the_fluid_allows_stop_with_the_usable_count(tmp_path):
+    # 8 particles in 4 columns fall into 3 cells along x: a third rank would own nothing
+    done = _seawall(["run", "dam-break", "--set", "H=0.1", "--dx", "0.05", "--t-end", "0.01", "--no-progress",
+                     "--out", str(tmp_path / "c")], 3)
+    assert done.returncode != 0
+    lines = [line for line in done.stderr.splitlines() if line.startswith("seawall:")]
+    assert len(lines) == 1 and "3 ranks are more than the fluid allows" in lines[0]
+    assert lines[0].endswith("use at most 2 ranks")
+    assert not (tmp_path / "c").exists()
