@@ -133,9 +133,10 @@ def test_two_ranks_give_the_serial_probes(runs):
     assert s2["mpi"]["ranks"] == 2 and 0 < s2["mpi"]["halo_fraction"] < 1
     # sums over neighbours are taken in another order: round-off, grown over the steps (measured
     # 9.5e-16 relative after these 494 steps, 2.7e-11 after 3382 with the impact; docs/parallel.md),
-    # far below any change of the physics
+    # far below any change of the physics. 1e-11 is the regression series' tolerance: a cold compile
+    # against cached machine code moves a serial run by up to 2.4e-12 (docs/architecture.md)
     scale = np.maximum(np.abs(p1).max(axis=0), 1e-300)
-    assert np.max(np.abs(p2 - p1) / scale) < 1e-10
+    assert np.max(np.abs(p2 - p1) / scale) < 1e-11
     assert s2["mass_drift"] == pytest.approx(s1["mass_drift"], abs=1e-14)
 
 
