@@ -101,12 +101,30 @@ def refusal(sim):
     return None
 
 
+def _mirror_reach(sim):
+    """Farthest a wall's update reads the fluid beyond one support of its particles, in supports.
+
+    Ghost particles ([Huang2019]) and mDBC interpolate the fluid at mirror points, 2 d from a wall
+    particle at depth d behind the surface; the other models read the fluid around the particle.
+    """
+    from ..boundary.ghost import GhostParticles
+    from ..boundary.mdbc import ModifiedDynamicBoundary
+
+    support = sim.kernel.support(sim.h)
+    reach = 0.0
+    for wall in sim.walls:
+        if isinstance(wall.model, (GhostParticles, ModifiedDynamicBoundary)) and "surface" in wall.particles:
+            depth = np.sqrt(np.sum((wall.x - wall.particles["surface"]) ** 2, axis=1))
+            reach = max(reach, 2.0 * float(depth.max(initial=0.0)) / support)
+    return reach
+
+
 def halo_depth(sim):
     """Kernel supports of fluid an owned particle's rates depend on (see the module docstring)."""
-    depth = 2                                    # fluid pair terms + the wall particles' update
+    depth = 2.0                                  # fluid pair terms + the wall particles' update
     if sim.fluid.density_mode == "summation":
-        depth += 1                               # the neighbours' densities are themselves sums
-    return depth
+        depth += 1.0                             # the neighbours' densities are themselves sums
+    return depth + _mirror_reach(sim)
 
 
 def distribute(sim, comm, argv=()):
