@@ -489,6 +489,8 @@ def _mpi(sim, args):
         return None
     if getattr(args, "line", None):
         raise ParameterError("--line: the line sampler is not decomposed; run it in one process")
+    if args.threads is None:   # without --threads the ranks on a machine share its cores
+        parallel.share_cores(comm)
     parallel.distribute(sim, comm, argv=args.argv)
     return comm
 

@@ -67,6 +67,18 @@ def world():
     return comm if comm.Get_size() > 1 else None
 
 
+def share_cores(comm) -> int:
+    """Set the compiled loops' threads to this node's cores divided among the ranks on it (at least 1);
+    return the count. Ranks that each took every core would fight for them."""
+    import numba
+    from mpi4py import MPI
+
+    local = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
+    threads = max(1, min(numba.config.NUMBA_NUM_THREADS, (os.cpu_count() or 1) // local))
+    numba.set_num_threads(threads)
+    return threads
+
+
 def is_root(comm) -> bool:
     """Rank 0, or a serial run (comm None): the process that writes the run's files."""
     return comm is None or comm.Get_rank() == 0
@@ -74,4 +86,4 @@ def is_root(comm) -> bool:
 
 from .distributed import distribute, refusal  # noqa: E402  (after the helpers it uses)
 
-__all__ = ["distribute", "is_root", "launched_rank", "launched_size", "refusal", "world"]
+__all__ = ["distribute", "is_root", "share_cores", "launched_rank", "launched_size", "refusal", "world"]
