@@ -472,6 +472,10 @@ class DistributedSimulation:
         return value if math.isfinite(value) or kind == "sum" else float("nan")
 
     def _adopt_output(self, out):
+        from ..sampling import LineSampler
+
+        if isinstance(out, LineSampler):
+            raise ParameterError("MPI: the line sampler is not decomposed; run it in one process")
         out = super()._adopt_output(out)
         if isinstance(out, VTK) and not isinstance(out, GatheredVTK):
             return GatheredVTK(out, self.comm)
