@@ -55,7 +55,7 @@ def test_rows_travel_bit_for_bit():
         assert np.array_equal(back[name], a[rows])
 
 
-def test_couplings_and_moving_walls_are_refused_by_name():
+def test_couplings_and_unverified_models_are_refused_by_name():
     from seawall.cases import case_by_name
     from seawall.coupling import Coupling
 
@@ -64,6 +64,9 @@ def test_couplings_and_moving_walls_are_refused_by_name():
 
     class Anchor(Coupling):
         name = "anchor"
+
+    lust = case_by_name("dam-break").build(boundary="lust", H=0.1, dx=0.01)
+    assert refusal(lust).startswith("MPI: wall tank (lust): its 2-rank run differed")
 
     sim.couplings.append(Anchor())
     assert refusal(sim) == ("MPI: coupling anchor (Anchor) acts on the whole fluid and is not decomposed; "
