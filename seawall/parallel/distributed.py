@@ -55,7 +55,7 @@ from . import slabs
 MARGIN_SUPPORTS = 1.0
 #: wall models whose decomposed run matched one process to round-off (benchmarks/mpi_agreement.py,
 #: docs/parallel.md); the others are refused until they are compared
-VERIFIED_MODELS = ("adami", "adami-noslip", "dbc", "continuity", "ghost-mls1", "monaghan-kajtar", "liu2015")
+VERIFIED_MODELS = ("adami", "adami-noslip", "dbc", "idbc", "continuity", "ghost-mls1", "monaghan-kajtar", "liu2015")
 #: set (to anything) by benchmarks/mpi_agreement.py: run a model not yet compared, to compare it
 COMPARE_ANY_MODEL = "SEAWALL_MPI_COMPARE_ANY_MODEL"
 #: wall models whose decomposed run differed from one process beyond round-off (docs/parallel.md):
