@@ -67,8 +67,8 @@ def test_couplings_and_unverified_models_are_refused_by_name():
 
     lust = case_by_name("dam-break").build(boundary="lust", H=0.1, dx=0.01)
     assert refusal(lust).startswith("MPI: wall tank (lust): its 2-rank run differed")
-    other = case_by_name("dam-break").build(boundary="zeroing", H=0.1, dx=0.01)
-    assert refusal(other).startswith("MPI: wall tank (zeroing): this wall model has not been compared")
+    other = case_by_name("dam-break").build(boundary="liu2012", H=0.1, dx=0.01)
+    assert refusal(other).startswith("MPI: wall tank (liu2012): this wall model has not been compared")
 
     sim.couplings.append(Anchor())
     assert refusal(sim) == ("MPI: coupling anchor (Anchor) acts on the whole fluid and is not decomposed; "
