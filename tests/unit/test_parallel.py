@@ -76,13 +76,19 @@ def test_couplings_and_unverified_models_are_refused_by_name():
 
 
 # ---------------------------------------------------------------------------- 2 ranks against 1 process
+def _mpiexec():
+    """mpiexec on PATH, else the one MPICH's wheel installed beside this Python."""
+    beside = os.path.join(os.path.dirname(sys.executable), "mpiexec")
+    return shutil.which("mpiexec") or (beside if os.access(beside, os.X_OK) else None)
+
+
 def _mpi_ready():
     try:
         import mpi4py  # noqa: F401
     except ImportError:
         return "mpi4py is not installed (pip install seawall[mpi])"
-    if shutil.which("mpiexec") is None:
-        return "no mpiexec on PATH"
+    if _mpiexec() is None:
+        return "no mpiexec on PATH or beside the Python executable"
     return None
 
 
@@ -98,7 +104,7 @@ def _env():
 def _seawall(args, ranks=1, **kwargs):
     cmd = [sys.executable, "-m", "seawall", *args]
     if ranks > 1:
-        cmd = ["mpiexec", "-n", str(ranks), *cmd]
+        cmd = [_mpiexec(), "-n", str(ranks), *cmd]
     return subprocess.run(cmd, cwd=ROOT, env=_env(), capture_output=True, text=True, timeout=900, **kwargs)
 
 
@@ -175,7 +181,7 @@ def test_refusals_stop_every_rank_with_one_line(tmp_path):
 def test_ranks_that_disagree_on_the_input_stop(tmp_path):
     one = [sys.executable, "-m", "seawall", *RUN[2:], "--t-end", "0.01", "--out", str(tmp_path / "b")]
     other = [*one[:-2], "--set", "c0=20", *one[-2:]]
-    done = subprocess.run(["mpiexec", "-n", "1", *one, ":", "-n", "1", *other], cwd=ROOT, env=_env(),
+    done = subprocess.run([_mpiexec(), "-n", "1", *one, ":", "-n", "1", *other], cwd=ROOT, env=_env(),
                           capture_output=True, text=True, timeout=900)
     assert done.returncode != 0
     lines = [line for line in done.stderr.splitlines() if line.startswith("seawall:")]
