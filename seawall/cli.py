@@ -406,6 +406,7 @@ def cmd_run(args):
 
     rundir.check_out_path(args.out)
     case, sim = _build(args)
+    comm = _mpi(sim, args)
     record = provenance(args.argv)   # after the build: --threads is applied there
     args.running["sim"] = sim
     t_end = args.t_end or case.t_end
@@ -437,7 +438,7 @@ def cmd_run(args):
         if t_end <= sim.time:
             raise _bad_input(f"--t-end {t_end:g} s must exceed the checkpoint's time {sim.time:g} s")
     _check_intervals(args, sim)
-    rundir.prepare(out, overwrite=args.overwrite, restart=args.restart)
+    _on_root(comm, lambda: rundir.prepare(out, overwrite=args.overwrite, restart=args.restart))
 
     sim.metadata["provenance"] = record
     if args.restart:
@@ -456,7 +457,10 @@ def cmd_run(args):
     else:
         what = (f"boundary {args.boundary}, {sim.dim}D, {sim.fluid.n} fluid + {sum(w.n for w in sim.walls)} wall "
                 f"particles, dx = {sim.fluid.spacing:g} m")
-    print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
+    if comm is not None:
+        what += f", {comm.Get_size()} MPI ranks"
+    if comm is None or comm.Get_rank() == 0:
+        print(f"seawall run {case.name}: {what}, t_end = {t_end:g} s -> {out}", flush=True)
     status, error, code = "completed", None, 0
     result = None
     try:
@@ -491,6 +495,8 @@ def cmd_run(args):
                         [f"wall_{w.name}.pvd" for w in sim.walls],
                         "checkpoint": "checkpoint.h5", "escaped": "escaped.csv",
                         **({"lines": line_files} if line_files else {})}
+    if comm is not None and comm.Get_rank() != 0:   # rank 0 writes the run's files and prints
+        return code
     for name, write in (("escaped.csv", lambda path: _write_escaped(path, sim)),
                         ("summary.json", lambda path: rundir.write_json(path, _jsonable(summary)))):
         try:
@@ -504,6 +510,39 @@ def cmd_run(args):
     if error:
         print(f"seawall: {'interrupted' if status == 'interrupted' else 'error'}: {error}", file=sys.stderr)
     return code
+
+
+def _mpi(sim, args):
+    """Under mpiexec with several ranks: make ``sim`` one rank of a decomposed run (seawall.parallel)."""
+    from . import parallel
+    from .errors import ParameterError
+
+    comm = parallel.world()
+    if comm is None:
+        return None
+    if getattr(args, "line", None):
+        raise ParameterError("--line: the line sampler is not decomposed; run it in one process")
+    if args.threads is None:   # without --threads the ranks on a machine share its cores
+        parallel.share_cores(comm)
+    parallel.distribute(sim, comm, argv=args.argv)
+    return comm
+
+
+def _on_root(comm, action):
+    """Run ``action`` on rank 0 only (all of it in a serial run); a refusal there stops every rank."""
+    from .errors import ParameterError
+
+    if comm is None:
+        return action()
+    message = None
+    if comm.Get_rank() == 0:
+        try:
+            action()
+        except ParameterError as exc:
+            message = str(exc)
+    message = comm.bcast(message, root=0)
+    if message is not None:
+        raise ParameterError(message)
 
 
 def _add_wall_force(sim, case, name):
@@ -763,12 +802,15 @@ def cmd_bench(args):
     from .simulation import Simulation  # noqa: F401  (import cost outside the timing)
 
     case, sim = _build(args)
+    comm = _mpi(sim, args)
+    # what one step updates: fluid and wall particles (SPH), the elements (DEM: its walls are fixed);
+    # counted before a decomposed run splits the fluid
+    n_particles = sim.particles_per_step()
+    n_fluid = sim.fluid.n if hasattr(sim, "fluid") else 0
     t0 = time.perf_counter()
     sim.run_steps(2)  # compiles (or loads the cache) and warms up
     compile_s = time.perf_counter() - t0
     n_wall = sum(w.n for w in sim.walls)
-    # what one step updates: fluid and wall particles (SPH), the elements (DEM: its walls are fixed)
-    n_particles = sim.particles_per_step()
     fluid = getattr(sim, "fluid", None)
     # timed in chunks: on a shared machine single timings scatter by +-15 %, so the
     # median and best chunk are reported beside the overall rate
@@ -788,7 +830,7 @@ def cmd_bench(args):
 
     rates.sort()
     line = {"case": case.name, "boundary": args.boundary, "dimension": sim.dim,
-            "n_particles": n_particles, "n_fluid": fluid.n if fluid is not None else 0, "n_wall": n_wall,
+            "n_particles": n_particles, "n_fluid": n_fluid, "n_wall": n_wall,
             **({"n_dem": sim.dem.n} if hasattr(sim, "dem") else {}),
             "steps": args.steps, "seconds": seconds,
             "particle_steps_per_s": n_particles * args.steps / seconds,
@@ -796,6 +838,13 @@ def cmd_bench(args):
             "best_chunk_particle_steps_per_s": rates[-1],
             "compile_seconds": compile_s, "threads": numba.get_num_threads(), "cpu_seconds": cpu_seconds,
             "dx": fluid.spacing if fluid is not None else None}
+    if comm is not None:   # a decomposed run: rank 0's timings (the ranks step together), the ranks' CPU time
+        stats = sim.summary_so_far()["mpi"]
+        line.update(ranks=comm.Get_size(), cpu_seconds=comm.allreduce(cpu_seconds),
+                    halo_fraction=stats["halo_fraction"], comm_seconds_max_rank=stats["comm_seconds_max_rank"],
+                    comm_seconds_per_step=stats["comm_seconds_max_rank"] / (args.steps + 2))
+        if comm.Get_rank() != 0:
+            return 0
     print(json.dumps(line))
     return 0
 
@@ -818,7 +867,10 @@ def main(argv=None):
                 return handlers[args.command](args)
         return handlers[args.command](args)
     except ParameterError as exc:
-        print(f"seawall: error: {exc}", file=sys.stderr)
+        from .parallel import launched_rank
+
+        if launched_rank() == 0:   # under mpiexec every rank stops; rank 0 says why
+            print(f"seawall: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt as exc:
         # before a run directory was prepared (or in a command without one): nothing to keep

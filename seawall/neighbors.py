@@ -111,7 +111,10 @@ class CellGrid:
         Only for a list nobody else keeps (the simulation's own list of each evaluation).
         """
         n = x.shape[0]
-        if reuse is not None and reuse.start.shape[0] == self.n_cells + 1 and reuse.order.shape[0] == n:
+        if reuse is not None and reuse.start.shape[0] == self.n_cells + 1:
+            if reuse.order.shape[0] != n:   # the count changed (removals, a decomposed run's halo)
+                reuse.order = np.empty(n, dtype=np.int64)
+                reuse.cell = np.empty(n, dtype=np.int64)
             fill_cell_list(x, self.lo, self.inv_cell, self.ncell, reuse.start, reuse.order, reuse.cell)
             reuse._reach = None
             return reuse

@@ -82,6 +82,11 @@ class ParticleArrays:
                 self._arrays[name] = np.ascontiguousarray(a[mask])
         return removed
 
+    def truncate(self, n):
+        """Keep the first ``n`` particles (views of the present arrays, no copy)."""
+        for name, a in self._arrays.items():
+            self._arrays[name] = a[:int(n)]
+
     def append(self, count, **values):
         """Append ``count`` zero-filled rows to every array at once, then set those given as keywords.
 

@@ -124,6 +124,10 @@ class Runner:
     def _register_probe(self, probe):
         """Subclass checks and bookkeeping for a probe being added (nothing by default)."""
 
+    def _sample_probe(self, probe):
+        """One probe's value now (a decomposed run combines the ranks' values here)."""
+        return probe.sample(self)
+
     def _adopt_output(self, out):
         """The output object to keep for ``out`` (a subclass may substitute its own writer)."""
         return out
@@ -179,7 +183,7 @@ class Runner:
         if not force and self.time < self._next_probe - 1e-12:
             return
         self._prepare_probes()
-        row = [p.sample(self) for p in self.probes]
+        row = [self._sample_probe(p) for p in self.probes]
         self.probe_times.append(self.time)
         self.probe_values.append(row)
         if self.probe_csv is not None:

@@ -452,8 +452,10 @@ class Simulation(Runner):
             if wall.name in self.wall_forces:
                 before = fp["dv"].copy()
                 self._wall_acts(wall, ctx)
-                # force of the fluid on the wall = minus what the wall adds to m_i dv_i (pairwise forms)
-                self.wall_forces[wall.name] = -np.sum(fp["m"][:, None] * (fp["dv"] - before), axis=0)
+                # force of the fluid on the wall = minus what the wall adds to m_i dv_i (pairwise forms);
+                # over the particles this process owns (all of them unless the run is decomposed)
+                n = self._owned_rows()
+                self.wall_forces[wall.name] = -np.sum(fp["m"][:n, None] * (fp["dv"][:n] - before[:n]), axis=0)
             else:
                 self._wall_acts(wall, ctx)
             if self.record_particle_forces and defines_particle_forces(wall):
@@ -468,6 +470,10 @@ class Simulation(Runner):
             coupling.add_rates(self, ctx)
         if self.fluid.density_mode == "summation":
             fp["drho"][:] = 0.0
+
+    def _owned_rows(self):
+        """Fluid rows this process owns: every row (a decomposed run keeps halo copies after them)."""
+        return self.fluid.particles.n
 
     def _scheme(self, prm):
         """fluid_rates' compile-time switches for ``prm`` (rebuilt only when the physics object changes)."""
