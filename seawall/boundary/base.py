@@ -121,8 +121,6 @@ class WallModel:
     @classmethod
     def options(cls):
         """Names of the constructor's keyword arguments, in order."""
-        import inspect
-
         return tuple(cls.option_defaults())
 
     @classmethod

@@ -21,7 +21,6 @@ from seawall.cases.lid_cavity import centrelines
 
 
 def test_block_leaves_the_plates_undeformed_with_liu2015():
-    dx = 1e-3
     sim = build("plates", boundary="liu2015")
     result = sim.run(0.048, progress=False)
     assert result.summary["escaped_particles"] == 0

@@ -11,7 +11,6 @@
 
 import math
 
-import numpy as np
 import pytest
 
 from seawall import cases

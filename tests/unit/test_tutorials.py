@@ -6,15 +6,13 @@ the compiled loops are cached; what they print is checked for the quantities the
 
 import json
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from seawall.io import read_probes_csv
-from tests.tutorial_blocks import DOCS, blocks, run_tutorial
+from tests.tutorial_blocks import DOCS, run_tutorial
 
 REPO = Path(__file__).resolve().parents[2]
 SMALL = {"run": ["--dx", "0.05", "--t-end", "0.02", "--no-progress"],

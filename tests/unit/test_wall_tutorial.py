@@ -2,7 +2,6 @@
 the compiled one runs in seawall compare."""
 
 import importlib.util
-import re
 import sys
 from pathlib import Path
 
