@@ -149,23 +149,6 @@ def kernel_gradient_factor(kind, q):
     return 0.0
 
 
-def kernel_tag(kind):
-    """The kernel id ``kind`` in the *type* of a zero-size array (``kind + 1`` axes).
-
-    The device of :func:`seawall.neighbors.layout_tag`: a loop that takes this tag and reads
-    :func:`tag_kernel` inside its parallel body compiles only its kernel's branch of
-    :func:`kernel_shape` / :func:`kernel_gradient_factor`, not all five (less code to optimise
-    at start-up, and no branch on the id per pair).
-    """
-    return np.empty((0,) * (int(kind) + 1))
-
-
-@njit(cache=True, inline="always")
-def tag_kernel(tag):
-    """The kernel id a :func:`kernel_tag` encodes (a compile-time constant)."""
-    return tag.ndim - 1
-
-
 def kernel_sigma(kind, h, dim):
     """Normalisation sigma_d(h) such that the integral of W over space is one."""
     if dim not in (2, 3):

@@ -42,7 +42,7 @@ from numba import njit, prange
 
 from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative, require_positive
-from ..kernels import kernel_gradient_factor, kernel_shape, kernel_tag, tag_kernel
+from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from ..pairs import (continuity, gradient_factor, laminar_viscosity, pressure_acceleration, riemann_continuity,
                      riemann_fluid_jump, riemann_momentum_coefficient, riemann_pressure,
@@ -56,68 +56,56 @@ DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv_cell, ncell, period, prm,
-                     noslip, clip_negative, pw, rhow, vw_visc, ktag):
-    """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle.
-
-    ``ktag`` is :func:`seawall.kernels.kernel_tag` of ``prm.kernel``: only that kernel is compiled.
-    """
-    for b in prange(xw.shape[0]):
-        # the body is its own compiled function: see fluid.rates.fluid_rates for why, and for the int64
-        adami_wall_state_of(np.int64(b), layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv_cell, ncell,
-                            period, prm, noslip, clip_negative, pw, rhow, vw_visc, ktag)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def adami_wall_state_of(b, layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv_cell, ncell, period, prm,
-                        noslip, clip_negative, pw, rhow, vw_visc, ktag):
-    """The body of :func:`adami_wall_state` for wall particle b (see there)."""
+                     noslip, clip_negative, pw, rhow, vw_visc):
+    """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle."""
+    nw = xw.shape[0]
     inv_h = 1.0 / prm.h
-    dim = tag_dim(layout)   # from the argument types: constants here
-    periodic = tag_periodic(layout)
-    kernel = tag_kernel(ktag)
-    nrows = 25 if dim == 3 else 5
-    p0, p1, p2 = point_of(xw, b, dim)
-    cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-    ab0, ab1, ab2 = point_of(aw, b, dim)
-    g0 = prm.gx - ab0
-    g1 = prm.gy - ab1
-    g2 = prm.gz - ab2
-    sw = 0.0
-    sp = 0.0
-    sv0 = sv1 = sv2 = 0.0
-    for row in range(nrows):
-        for part in range(2):
-            ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
-            for k in range(ka, kb):
-                f = order[k]
-                d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
-                if r2 >= prm.support2:
-                    continue
-                w = kernel_shape(kernel, np.sqrt(r2) * inv_h)
-                sw += w
-                sp += (pf[f] + rhof[f] * (g0 * d0 + g1 * d1 + g2 * d2)) * w
-                if noslip:
-                    u0, u1, u2 = point_of(vf, f, dim)
-                    sv0 += u0 * w
-                    sv1 += u1 * w
-                    sv2 += u2 * w
-    pb = sp / sw if sw > 0.0 else prm.p_background
-    if clip_negative and pb < prm.p_background:
-        pb = prm.p_background
-    pw[b] = pb
-    rhow[b] = eos_density(prm.eos, pb, prm.rho0, prm.c0, prm.gamma, prm.p_background)
-    if noslip:
-        vb0, vb1, vb2 = point_of(vw, b, dim)
-        if sw > 0.0:
-            vw_visc[b, 0] = 2.0 * vb0 - sv0 / sw
-            vw_visc[b, 1] = 2.0 * vb1 - sv1 / sw
-            if dim == 3:
-                vw_visc[b, 2] = 2.0 * vb2 - sv2 / sw
-        else:
-            vw_visc[b, 0] = vb0
-            vw_visc[b, 1] = vb1
-            if dim == 3:
-                vw_visc[b, 2] = vb2
+    for b in prange(nw):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
+        p0, p1, p2 = point_of(xw, b, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        ab0, ab1, ab2 = point_of(aw, b, dim)
+        g0 = prm.gx - ab0
+        g1 = prm.gy - ab1
+        g2 = prm.gz - ab2
+        sw = 0.0
+        sp = 0.0
+        sv0 = sv1 = sv2 = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    f = order[k]
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
+                    if r2 >= prm.support2:
+                        continue
+                    w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
+                    sw += w
+                    sp += (pf[f] + rhof[f] * (g0 * d0 + g1 * d1 + g2 * d2)) * w
+                    if noslip:
+                        u0, u1, u2 = point_of(vf, f, dim)
+                        sv0 += u0 * w
+                        sv1 += u1 * w
+                        sv2 += u2 * w
+        pb = sp / sw if sw > 0.0 else prm.p_background
+        if clip_negative and pb < prm.p_background:
+            pb = prm.p_background
+        pw[b] = pb
+        rhow[b] = eos_density(prm.eos, pb, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        if noslip:
+            vb0, vb1, vb2 = point_of(vw, b, dim)
+            if sw > 0.0:
+                vw_visc[b, 0] = 2.0 * vb0 - sv0 / sw
+                vw_visc[b, 1] = 2.0 * vb1 - sv1 / sw
+                if dim == 3:
+                    vw_visc[b, 2] = 2.0 * vb2 - sv2 / sw
+            else:
+                vw_visc[b, 0] = vb0
+                vw_visc[b, 1] = vb1
+                if dim == 3:
+                    vw_visc[b, 2] = vb2
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
@@ -198,7 +186,7 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates, ktag):
+def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     """Add the dummy wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
     continuity:  drho_i += m_b (v_i - v_b) . grad_i W_ib, v_b the wall's own velocity
@@ -214,16 +202,7 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates, ktag):
                  when wall_nu > 0 ([Liu2015] eq. 9 form with the Adami wall velocity v_w = wall.v_visc)
 
     ``cells`` is the wall's CellView with its reach mask: fluid particles in other cells are skipped.
-    ``ktag`` is :func:`seawall.kernels.kernel_tag` of ``prm.kernel``: only that kernel is compiled.
     """
-    for i in prange(fluid.x.shape[0]):
-        # the body is its own compiled function: see fluid.rates.fluid_rates for why, and for the int64
-        dummy_wall_forces_on(np.int64(i), fluid, wall, cells, prm, mirror, wall_nu, rates, ktag)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def dummy_wall_forces_on(i, fluid, wall, cells, prm, mirror, wall_nu, rates, ktag):
-    """The body of :func:`dummy_wall_forces` for fluid particle i (see there)."""
     layout = cells.layout
     xf = fluid.x
     vf = fluid.v
@@ -247,70 +226,73 @@ def dummy_wall_forces_on(i, fluid, wall, cells, prm, mirror, wall_nu, rates, kta
     period = cells.period
     dv = rates.dv
     drho = rates.drho
+    nf = xf.shape[0]
     inv_h = 1.0 / prm.h
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     riemann = prm.riemann != 0
     rho0c0 = prm.rho0 * prm.c0
-    dim = tag_dim(layout)   # from the argument types: constants here
-    periodic = tag_periodic(layout)
-    kernel = tag_kernel(ktag)
-    nrows = 25 if dim == 3 else 5
-    p0, p1, p2 = point_of(xf, i, dim)
-    cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-    if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
-        return
-    vi0, vi1, vi2 = point_of(vf, i, dim)
-    rhoi = rhof[i]
-    pr_i = pf[i] / (rhoi * rhoi)
-    a0 = a1 = a2 = 0.0
-    dr = 0.0
-    for row in range(nrows):
-        for part in range(2):
-            ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
-            for k in range(ka, kb):
-                b = order[k]
-                d0, d1, d2, r2 = separation(p0, p1, p2, xw, b, dim, periodic, period)
-                if r2 >= prm.support2 or r2 == 0.0:
-                    continue
-                r = np.sqrt(r2)
-                f = gradient_factor(kernel, gradient_scale, r * inv_h)
-                mb = mw[b]
-                vb0, vb1, vb2 = point_of(vw, b, dim)
-                vrb = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
-                if mirror:
-                    pb = pf[i]
-                    rhob = prm.rho0
-                else:
-                    pb = pw[b]
-                    rhob = rhow[b]
-                if riemann:
-                    dr += riemann_continuity(rhoi, mb / rhob, vrb, pf[i], pb, r, rho0c0, f)
-                    if has_normals:
-                        n0, n1, n2 = point_of(normals, b, dim)
-                        du = riemann_wall_jump((vi0 - vb0) * n0 + (vi1 - vb1) * n1 + (vi2 - vb2) * n2)
+    for i in prange(nf):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
+        p0, p1, p2 = point_of(xf, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
+            continue
+        vi0, vi1, vi2 = point_of(vf, i, dim)
+        rhoi = rhof[i]
+        pr_i = pf[i] / (rhoi * rhoi)
+        a0 = a1 = a2 = 0.0
+        dr = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    b = order[k]
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xw, b, dim, periodic, period)
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    r = np.sqrt(r2)
+                    f = gradient_factor(prm.kernel, gradient_scale, r * inv_h)
+                    mb = mw[b]
+                    vb0, vb1, vb2 = point_of(vw, b, dim)
+                    vrb = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
+                    if mirror:
+                        pb = pf[i]
+                        rhob = prm.rho0
                     else:
-                        du = riemann_fluid_jump(vrb, r)
-                    coef = riemann_momentum_coefficient(
-                        riemann_pressure(pf[i], pb, du, rho0c0, prm.c0, prm.riemann_eta), rhoi, rhob)
-                else:
-                    dr += continuity(mb, vrb, f)
-                    coef = pr_i + pb / (rhob * rhob)
-                s = pressure_acceleration(mb, coef, f)
-                a0 += s * d0
-                a1 += s * d1
-                a2 += s * d2
-                if wall_nu > 0.0:
-                    w0, w1, w2 = point_of(vw_visc, b, dim)
-                    lam = laminar_viscosity(mb, wall_nu, rhoi, rhob, f, r2, eta2)
-                    a0 += lam * (vi0 - w0)
-                    a1 += lam * (vi1 - w1)
-                    a2 += lam * (vi2 - w2)
-    dv[i, 0] += a0
-    dv[i, 1] += a1
-    if dim == 3:
-        dv[i, 2] += a2
-    drho[i] += dr
+                        pb = pw[b]
+                        rhob = rhow[b]
+                    if riemann:
+                        dr += riemann_continuity(rhoi, mb / rhob, vrb, pf[i], pb, r, rho0c0, f)
+                        if has_normals:
+                            n0, n1, n2 = point_of(normals, b, dim)
+                            du = riemann_wall_jump((vi0 - vb0) * n0 + (vi1 - vb1) * n1 + (vi2 - vb2) * n2)
+                        else:
+                            du = riemann_fluid_jump(vrb, r)
+                        coef = riemann_momentum_coefficient(
+                            riemann_pressure(pf[i], pb, du, rho0c0, prm.c0, prm.riemann_eta), rhoi, rhob)
+                    else:
+                        dr += continuity(mb, vrb, f)
+                        coef = pr_i + pb / (rhob * rhob)
+                    s = pressure_acceleration(mb, coef, f)
+                    a0 += s * d0
+                    a1 += s * d1
+                    a2 += s * d2
+                    if wall_nu > 0.0:
+                        w0, w1, w2 = point_of(vw_visc, b, dim)
+                        lam = laminar_viscosity(mb, wall_nu, rhoi, rhob, f, r2, eta2)
+                        a0 += lam * (vi0 - w0)
+                        a1 += lam * (vi1 - w1)
+                        a2 += lam * (vi2 - w2)
+        dv[i, 0] += a0
+        dv[i, 1] += a1
+        if dim == 3:
+            dv[i, 2] += a2
+        drho[i] += dr
+
+
 class DummyParticles(WallModel):
     """Dummy-particle wall with one of the five density calculators of [TrixiBoundary].
 
@@ -448,7 +430,7 @@ class DummyParticles(WallModel):
             rho_out = pa["rho"] if own else np.empty(wall.n)
             adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
                              cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, noslip,
-                             self.clip_negative_pressure, p_out, rho_out, pa["v_visc"], kernel_tag(prm.kernel))
+                             self.clip_negative_pressure, p_out, rho_out, pa["v_visc"])
         if self.density == "summation":
             wall_summation_density(g.layout, pa["x"], pa["m"], wall.cells.start, wall.cells.order, fp["x"],
                                    fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
@@ -465,11 +447,9 @@ class DummyParticles(WallModel):
             pa["p"][:] = prm.p_background
 
     def interact(self, fluid, wall, ctx, dv, drho):
-        prm = self._physics(ctx.physics)
         dummy_wall_forces(fluid_view(fluid.particles), wall_view(wall.particles, v_visc="v_visc"),
-                          cell_view(ctx.grid, wall.cells, reach=True), prm,
-                          self.density == "mirroring", self._wall_nu, rates_bundle(fluid, ctx, dv, drho),
-                          kernel_tag(prm.kernel))
+                          cell_view(ctx.grid, wall.cells, reach=True), self._physics(ctx.physics),
+                          self.density == "mirroring", self._wall_nu, rates_bundle(fluid, ctx, dv, drho))
 
     def state(self):
         """Model state that a checkpoint must keep (continuity's last evaluation time)."""

@@ -205,20 +205,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
     afterwards. The pair terms are those of :mod:`seawall.pairs`;
     ``prm.alpha_all_pairs`` applies the artificial viscosity to receding pairs too. ``scheme`` is
     :func:`scheme_tag` of ``prm``: which terms exist is fixed at compile time.
-
-    The per-particle work is :func:`fluid_particle_rates`, a serial compiled function: Numba's
-    parfor passes (copy propagation, IR simplification and deep copies of the loop body, all in
-    Python) grow faster than the body, and with the body inlined here they were most of this
-    loop's compile time (issue 19, docs/performance.md "Start-up"). The index is passed as int64:
-    inside the outlined parallel loop it is unsigned, and the body would compile twice.
     """
-    for i in prange(fluid.x.shape[0]):
-        fluid_particle_rates(np.int64(i), fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def fluid_particle_rates(i, fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
-    """The body of :func:`fluid_rates` for fluid particle i (see there)."""
     layout = cells.layout
     x = fluid.x
     v = fluid.v
@@ -238,6 +225,7 @@ def fluid_particle_rates(i, fluid, cells, grad_rho, prm, rates, grad_rho_next, s
     drho = rates.drho
     xsph = rates.xsph
     mu_max = rates.mu_max
+    n = x.shape[0]
     h = prm.h
     inv_h = 1.0 / h
     gradient_scale = prm.sigma * inv_h * inv_h
@@ -247,127 +235,128 @@ def fluid_particle_rates(i, fluid, cells, grad_rho, prm, rates, grad_rho_next, s
     eta2 = prm.eta2
     diff_coef = prm.delta * h * prm.c0
     rho0c0 = prm.rho0 * prm.c0
-    # read here, from the argument types: constants in this function (values computed in the
-    # parallel caller would reach an outlined loop as run-time arguments, and not fold)
-    kernel = tag_value(scheme[0])
-    riemann = tag_value(scheme[1]) != 0
-    tensile = tag_value(scheme[2]) != 0
-    laminar = tag_value(scheme[3]) != 0
-    diffusion = tag_value(scheme[4])
-    lagged = tag_value(scheme[5]) != 0
-    use_xsph = tag_value(scheme[6]) != 0
-    artificial = tag_value(scheme[7]) != 0
-    all_pairs = tag_value(scheme[8])
-    renorm = diffusion == DIFFUSION_RENORMALISED
-    dim = tag_dim(layout)   # likewise
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
-    p0, p1, p2 = point_of(x, i, dim)
-    cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-    vi0, vi1, vi2 = point_of(v, i, dim)
-    rhoi = rho[i]
-    pi = p[i]
-    ci = c[i]
-    pr_i = p_over_rho2[i]
-    if tensile:
-        ri = tensile_coefficient(pi, rhoi)
-    else:
-        ri = 0.0
-    if renorm:
-        gi0, gi1, gi2 = point_of(grad_rho, i, dim)
-    else:
-        gi0 = gi1 = gi2 = 0.0
-    a0 = a1 = a2 = 0.0
-    dr = 0.0
-    x0 = x1 = x2 = 0.0
-    mu_num = 0.0
-    mu_den = 1.0
-    a00 = a01 = a02 = a11 = a12 = a22 = 0.0
-    g0 = g1 = g2 = 0.0
-    for row in range(nrows):
-        for part in range(2):
-            ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
-            for k in range(ka, kb):
-                j = order[k]
-                if j == i:
-                    continue
-                d0, d1, d2, r2 = separation(p0, p1, p2, x, j, dim, periodic, period)
-                if r2 >= prm.support2 or r2 == 0.0:
-                    continue
-                r = np.sqrt(r2)
-                qq = r * inv_h
-                f = gradient_factor(kernel, gradient_scale, qq)  # grad_i W = f r_ij
-                mj = m[j]
-                rhoj = rho[j]
-                vj0, vj1, vj2 = point_of(v, j, dim)
-                u0 = vi0 - vj0
-                u1 = vi1 - vj1
-                u2 = vi2 - vj2
-                vr = u0 * d0 + u1 * d1 + u2 * d2
-                if riemann:
-                    dr += riemann_continuity(rhoi, volume[j], vr, pi, p[j], r, rho0c0, f)
-                    coef = riemann_momentum_coefficient(
-                        riemann_pressure(pi, p[j], riemann_fluid_jump(vr, r), rho0c0, prm.c0, prm.riemann_eta), rhoi, rhoj)
-                else:
-                    dr += continuity(mj, vr, f)
-                    coef = pr_i + p_over_rho2[j]
-                if tensile:
-                    rj = tensile_coefficient(p[j], rhoj)
-                    coef += tensile_term(ri, rj, kernel_value(kernel, prm.sigma, qq) * prm.inv_w_dx)
-                # max_j |vr|/(r^2 + eta^2) for the time step, compared as fractions
-                # (a/b > c/d <=> a d > c b) so that no pair pays a division for it
-                den = r2 + eta2
-                avr = abs(vr)
-                if avr * mu_den > mu_num * den:
-                    mu_num = avr
-                    mu_den = den
-                if artificial and viscosity_acts(vr, all_pairs):
-                    coef += monaghan_viscosity(alpha, beta, h * vr / den, 0.5 * (ci + c[j]), 0.5 * (rhoi + rhoj))
-                s = pressure_acceleration(mj, coef, f)
-                a0 += s * d0
-                a1 += s * d1
-                a2 += s * d2
-                if laminar:
-                    lam = laminar_viscosity(mj, nu, rhoi, rhoj, f, r2, eta2)
-                    a0 += lam * u0
-                    a1 += lam * u1
-                    a2 += lam * u2
-                if diffusion != DIFFUSION_NONE:
-                    if renorm:
-                        gj0, gj1, gj2 = point_of(grad_rho, j, dim)
-                        g_dot_r = (gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2
+    for i in prange(n):
+        # read inside the parallel body: values computed outside it reach the outlined loop as
+        # run-time arguments, and their branches would not fold
+        kernel = tag_value(scheme[0])
+        riemann = tag_value(scheme[1]) != 0
+        tensile = tag_value(scheme[2]) != 0
+        laminar = tag_value(scheme[3]) != 0
+        diffusion = tag_value(scheme[4])
+        lagged = tag_value(scheme[5]) != 0
+        use_xsph = tag_value(scheme[6]) != 0
+        artificial = tag_value(scheme[7]) != 0
+        all_pairs = tag_value(scheme[8])
+        renorm = diffusion == DIFFUSION_RENORMALISED
+        dim = tag_dim(layout)   # likewise: computed outside, dim and periodicity would not fold
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
+        p0, p1, p2 = point_of(x, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        vi0, vi1, vi2 = point_of(v, i, dim)
+        rhoi = rho[i]
+        pi = p[i]
+        ci = c[i]
+        pr_i = p_over_rho2[i]
+        if tensile:
+            ri = tensile_coefficient(pi, rhoi)
+        else:
+            ri = 0.0
+        if renorm:
+            gi0, gi1, gi2 = point_of(grad_rho, i, dim)
+        else:
+            gi0 = gi1 = gi2 = 0.0
+        a0 = a1 = a2 = 0.0
+        dr = 0.0
+        x0 = x1 = x2 = 0.0
+        mu_num = 0.0
+        mu_den = 1.0
+        a00 = a01 = a02 = a11 = a12 = a22 = 0.0
+        g0 = g1 = g2 = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for k in range(ka, kb):
+                    j = order[k]
+                    if j == i:
+                        continue
+                    d0, d1, d2, r2 = separation(p0, p1, p2, x, j, dim, periodic, period)
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    r = np.sqrt(r2)
+                    qq = r * inv_h
+                    f = gradient_factor(kernel, gradient_scale, qq)  # grad_i W = f r_ij
+                    mj = m[j]
+                    rhoj = rho[j]
+                    vj0, vj1, vj2 = point_of(v, j, dim)
+                    u0 = vi0 - vj0
+                    u1 = vi1 - vj1
+                    u2 = vi2 - vj2
+                    vr = u0 * d0 + u1 * d1 + u2 * d2
+                    if riemann:
+                        dr += riemann_continuity(rhoi, volume[j], vr, pi, p[j], r, rho0c0, f)
+                        coef = riemann_momentum_coefficient(
+                            riemann_pressure(pi, p[j], riemann_fluid_jump(vr, r), rho0c0, prm.c0, prm.riemann_eta), rhoi, rhoj)
                     else:
-                        g_dot_r = 0.0
-                    if lagged:
-                        # this state's <grad rho>^L, used by the next evaluation ([Liu2015] eq. 14-15)
-                        vol = volume[j]
-                        sv = -f * vol
-                        a00 += sv * d0 * d0
-                        a01 += sv * d0 * d1
-                        a02 += sv * d0 * d2
-                        a11 += sv * d1 * d1
-                        a12 += sv * d1 * d2
-                        a22 += sv * d2 * d2
-                        t = vol * (rhoj - rhoi) * f
-                        g0 += t * d0
-                        g1 += t * d1
-                        g2 += t * d2
-                    dr += density_diffusion(diff_coef, volume[j], rhoi, rhoj, f, renorm, g_dot_r)
-                if use_xsph:
-                    wx = xsph_weight(kernel_value(kernel, prm.sigma, qq), mj, rhoi, rhoj)
-                    x0 -= wx * u0
-                    x1 -= wx * u1
-                    x2 -= wx * u2
-    dv[i, 0] = a0 + prm.gx
-    dv[i, 1] = a1 + prm.gy
-    if dim == 3:
-        dv[i, 2] = a2 + prm.gz
-    drho[i] = dr
-    eps = prm.xsph
-    xsph[i, 0] = eps * x0
-    xsph[i, 1] = eps * x1
-    if dim == 3:
-        xsph[i, 2] = eps * x2
-    mu_max[i] = h * mu_num / mu_den
-    if lagged:
-        store_renormalised_gradient(grad_rho_next, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
+                        dr += continuity(mj, vr, f)
+                        coef = pr_i + p_over_rho2[j]
+                    if tensile:
+                        rj = tensile_coefficient(p[j], rhoj)
+                        coef += tensile_term(ri, rj, kernel_value(kernel, prm.sigma, qq) * prm.inv_w_dx)
+                    # max_j |vr|/(r^2 + eta^2) for the time step, compared as fractions
+                    # (a/b > c/d <=> a d > c b) so that no pair pays a division for it
+                    den = r2 + eta2
+                    avr = abs(vr)
+                    if avr * mu_den > mu_num * den:
+                        mu_num = avr
+                        mu_den = den
+                    if artificial and viscosity_acts(vr, all_pairs):
+                        coef += monaghan_viscosity(alpha, beta, h * vr / den, 0.5 * (ci + c[j]), 0.5 * (rhoi + rhoj))
+                    s = pressure_acceleration(mj, coef, f)
+                    a0 += s * d0
+                    a1 += s * d1
+                    a2 += s * d2
+                    if laminar:
+                        lam = laminar_viscosity(mj, nu, rhoi, rhoj, f, r2, eta2)
+                        a0 += lam * u0
+                        a1 += lam * u1
+                        a2 += lam * u2
+                    if diffusion != DIFFUSION_NONE:
+                        if renorm:
+                            gj0, gj1, gj2 = point_of(grad_rho, j, dim)
+                            g_dot_r = (gi0 + gj0) * d0 + (gi1 + gj1) * d1 + (gi2 + gj2) * d2
+                        else:
+                            g_dot_r = 0.0
+                        if lagged:
+                            # this state's <grad rho>^L, used by the next evaluation ([Liu2015] eq. 14-15)
+                            vol = volume[j]
+                            sv = -f * vol
+                            a00 += sv * d0 * d0
+                            a01 += sv * d0 * d1
+                            a02 += sv * d0 * d2
+                            a11 += sv * d1 * d1
+                            a12 += sv * d1 * d2
+                            a22 += sv * d2 * d2
+                            t = vol * (rhoj - rhoi) * f
+                            g0 += t * d0
+                            g1 += t * d1
+                            g2 += t * d2
+                        dr += density_diffusion(diff_coef, volume[j], rhoi, rhoj, f, renorm, g_dot_r)
+                    if use_xsph:
+                        wx = xsph_weight(kernel_value(kernel, prm.sigma, qq), mj, rhoi, rhoj)
+                        x0 -= wx * u0
+                        x1 -= wx * u1
+                        x2 -= wx * u2
+        dv[i, 0] = a0 + prm.gx
+        dv[i, 1] = a1 + prm.gy
+        if dim == 3:
+            dv[i, 2] = a2 + prm.gz
+        drho[i] = dr
+        eps = prm.xsph
+        xsph[i, 0] = eps * x0
+        xsph[i, 1] = eps * x1
+        if dim == 3:
+            xsph[i, 2] = eps * x2
+        mu_max[i] = h * mu_num / mu_den
+        if lagged:
+            store_renormalised_gradient(grad_rho_next, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
