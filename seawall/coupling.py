@@ -31,6 +31,9 @@ class Coupling:
 
     #: unique name, used in checkpoints and in summary.json
     name = "coupling"
+    #: None if the coupling works with a fluid whose pressure is its own variable (EDAC); otherwise the
+    #: reason it does not, with which the simulation refuses the combination
+    edac_refusal = None
 
     def prepare(self, sim):
         """Called once when the simulation is built."""

@@ -86,6 +86,17 @@ def drift(x, v, xsph, dt):
 DT_RULES = ("monaghan-kos", "liu2015")
 
 
+def pressure_variable(pa):
+    """(p, dp/dt) of a fluid whose pressure is its own variable (EDAC, seawall.fluid.edac), else None.
+
+    The integrators advance it as they advance the velocity (it enters the rates linearly, like v):
+    predictor p* = p + dt/2 dp_n, corrector p' = p + dt dp*, leap-frog kicks of dt/2.
+    """
+    if "dp" not in pa:
+        return None
+    return pa["p"], pa["dp"]
+
+
 class Integrator:
     """Common parameters of the integrators.
 
@@ -160,10 +171,16 @@ class Symplectic(Integrator):
     def step(self, sim, dt):
         pa = sim.fluid.particles
         v_old, rho_old = self._scratch(pa)
+        pressure = pressure_variable(pa)
+        if pressure is not None:
+            p_old = pressure[0].copy()
+            pressure[0][:] += 0.5 * dt * pressure[1]
         symplectic_predict(pa["x"], pa["v"], pa["rho"], pa["dv"], pa["drho"], pa["xsph"], dt, v_old, rho_old)
         sim.evaluate(sim.time + 0.5 * dt)
         # the arrays are the same objects: evaluate never reallocates inside a step
         symplectic_correct(pa["x"], pa["v"], pa["rho"], pa["dv"], pa["drho"], pa["xsph"], dt, v_old, rho_old)
+        if pressure is not None:
+            np.add(p_old, dt * pressure[1], out=pressure[0])
 
 
 class LeapFrog(Integrator):
@@ -179,10 +196,15 @@ class LeapFrog(Integrator):
 
     def step(self, sim, dt):
         pa = sim.fluid.particles
+        pressure = pressure_variable(pa)
         kick(pa["v"], pa["rho"], pa["dv"], pa["drho"], 0.5 * dt)
+        if pressure is not None:
+            pressure[0][:] += 0.5 * dt * pressure[1]
         drift(pa["x"], pa["v"], pa["xsph"], dt)
         sim.evaluate(sim.time + dt)
         kick(pa["v"], pa["rho"], pa["dv"], pa["drho"], 0.5 * dt)
+        if pressure is not None:
+            pressure[0][:] += 0.5 * dt * pressure[1]
 
 
 class PredictedLeapFrog(Integrator):
@@ -212,7 +234,12 @@ class PredictedLeapFrog(Integrator):
             buf = (np.empty_like(pa["v"]), np.empty_like(pa["rho"]))
             self._buffers = buf
         v_half, rho_half = buf
+        pressure = pressure_variable(pa)
         kick(pa["v"], pa["rho"], pa["dv"], pa["drho"], 0.5 * dt)
+        if pressure is not None:
+            pressure[0][:] += 0.5 * dt * pressure[1]
+            p_half = pressure[0].copy()
+            pressure[0][:] += 0.5 * dt * pressure[1]
         drift(pa["x"], pa["v"], pa["xsph"], dt)
         np.copyto(v_half, pa["v"])
         np.copyto(rho_half, pa["rho"])
@@ -221,6 +248,8 @@ class PredictedLeapFrog(Integrator):
         np.copyto(pa["v"], v_half)
         np.copyto(pa["rho"], rho_half)
         kick(pa["v"], pa["rho"], pa["dv"], pa["drho"], 0.5 * dt)
+        if pressure is not None:
+            np.add(p_half, 0.5 * dt * pressure[1], out=pressure[0])
 
 
 INTEGRATORS = {"symplectic": Symplectic, "leapfrog": LeapFrog, "leapfrog-predicted": PredictedLeapFrog}

@@ -484,6 +484,9 @@ class OpenBoundary(Coupling):
         Name in checkpoints and summary.json.
     """
 
+    edac_refusal = ("its zone pressure is the equation of state of the fluid density, and with EDAC the "
+                    "fluid's density does not set its pressure")
+
     def __init__(self, zones, *, fluid_system, buffer_size, boundary_model=None, name="open_boundary"):
         from .fluid.system import FluidSystem
 

@@ -173,3 +173,31 @@ def xsph_weight(w, m_j, rho_i, rho_j):
     """m_j W_ij / rho_ij with rho_ij = (rho_i + rho_j)/2; dx_i/dt gets eps * weight * (v_j - v_i)
     ([Li2022] eq. 10, Monaghan 1989)."""
     return w * m_j / (0.5 * (rho_i + rho_j))
+
+
+# ---------------------------------------------------------------- EDAC pressure equation
+@njit(cache=True, inline="always")
+def edac_divergence(c2, rho_i, vol_j, vr, f):
+    """The compressibility term of the EDAC pressure equation, -rho_i c^2 (div v)_i, for one pair
+    ([Ramachandran2019] sec. 3, the pressure equation; the divergence in the difference form
+    (div v)_i = -sum_j V_j v_ij . grad_i W_ij):
+
+        dp_i/dt += c^2 rho_i V_j v_ij . grad_i W_ij,   ``vr`` = v_ij . r_ij, grad_i W = f r_ij, c2 = c0^2.
+
+    It is c0^2 rho_i / rho_j times the continuity term (:func:`continuity`); it vanishes for a uniform flow."""
+    return c2 * rho_i * vol_j * vr * f
+
+
+@njit(cache=True, inline="always")
+def edac_diffusion(vol_i, vol_j, inv_m_i, rho_i, rho_j, nu, p_i, p_j, f, r2, eta2):
+    """The damping term nu_edac lap(p) of the EDAC pressure equation for one pair ([Ramachandran2019]
+    sec. 3; the Laplacian in the form of [Morris1997] / [Adami2013] that the paper uses for its viscous
+    term, with eta = rho nu_edac):
+
+        dp_i/dt += (1/m_i) (V_i^2 + V_j^2) eta_ij (p_i - p_j) (r_ij . grad_i W_ij) / (r_ij^2 + eta^2),
+        eta_ij = 2 eta_i eta_j / (eta_i + eta_j).
+
+    Antisymmetric in i, j once multiplied by m_i, so sum_i m_i p_i is conserved by it; with a uniform
+    density it is 2 nu V_j (p_i - p_j) F r^2/(r^2 + eta^2), the [Morris1997] Laplacian."""
+    eta_ij = 2.0 * nu * rho_i * rho_j / (rho_i + rho_j)
+    return (vol_i * vol_i + vol_j * vol_j) * inv_m_i * eta_ij * (p_i - p_j) * f * r2 / (r2 + eta2)

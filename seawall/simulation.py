@@ -24,6 +24,7 @@ from .coupling import Coupling
 from .boundary.particle_forces import defines_particle_forces, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
+from .fluid.edac import edac_state, edac_wall_diffusion
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, scheme_tag, summation_density
 from .fluid.regularisation import (concentration_sums, corrected_vectors, max_speed, surface_lambda,
@@ -175,7 +176,9 @@ class Simulation(Runner):
             if self.physics.lagged_gradient:
                 fp["grad_rho_next"] = np.zeros((n, self.dim))
         self._empty_grad = np.zeros((0, self.dim))
+        self._empty_scalar = np.zeros(0)
         self._allocate_regularisation()
+        self._allocate_edac()
         for wall in self.walls:
             cells = self.grid.build(wall.x)
             wall.particles.permute(cells.order)  # walls sorted once for locality
@@ -194,6 +197,7 @@ class Simulation(Runner):
         self.escaped_mass = 0.0
         for coupling in self.couplings:
             coupling.prepare(self)
+        self._check_edac()
 
     # ------------------------------------------------------------------ regularisation
     def _allocate_regularisation(self):
@@ -233,6 +237,73 @@ class Simulation(Runner):
             self.fluid.particles.remove(name)
         self._allocate_regularisation()
         return self
+
+    # ------------------------------------------------------------------ EDAC (seawall.fluid.edac)
+    def _allocate_edac(self):
+        """dp/dt of an EDAC fluid (its pressure is a variable the integrators advance)."""
+        fp = self.fluid.particles
+        if self.fluid.edac is not None:
+            if "dp" not in fp:
+                fp["dp"] = np.zeros(fp.n)
+        elif "dp" in fp:
+            fp.remove("dp")
+
+    def _check_edac(self):
+        """Refuse, in one line, the walls and couplings that cannot work with an EDAC fluid."""
+        if self.fluid.edac is None:
+            return
+        for wall in self.walls:
+            reason = getattr(wall.model, "edac_refusal", None)
+            if reason:
+                raise ParameterError(f"pressure_model=edac does not work with wall model {wall.model.name!r}: {reason}")
+        for coupling in self.couplings:
+            reason = getattr(coupling, "edac_refusal", None)
+            if reason:
+                raise ParameterError(f"pressure_model=edac does not work with coupling {coupling.name!r} "
+                                     f"({type(coupling).__name__}): {reason}")
+
+    def set_pressure_model(self, pressure_model):
+        """Set the fluid's pressure model (None / "eos", "edac" or a :class:`~seawall.fluid.EDAC`) on a built
+        simulation, before it first runs."""
+        if self._rates_ready:
+            raise ParameterError("pressure_model must be set before the simulation first runs")
+        before = self.fluid.pressure_model
+        self.fluid.set_pressure_model(pressure_model)
+        try:
+            self._check_edac()
+        except ParameterError:
+            self.fluid.pressure_model = before
+            raise
+        g = np.array([self.physics.gx, self.physics.gy, self.physics.gz])
+        self.physics = self._compile_physics(g)
+        self._allocate_edac()
+        return self
+
+    def _edac_walls(self, ctx, drho_fluid):
+        """The walls' share of an EDAC fluid's dp/dt: c0^2 times what they added to the continuity rate
+        (the divergence term), and the damping term over the walls whose particles carry a pressure."""
+        fp = self.fluid.particles
+        g = self.grid
+        prm = self.physics
+        dp = fp["dp"]
+        dp += (prm.c0 * prm.c0) * (fp["drho"] - drho_fluid)
+        for wall in self.walls:
+            wp = wall.particles
+            if (wall.model.layout != "layers" or "pressure" not in wall.model.fluid_terms
+                    or not all(k in wp for k in ("p", "rho", "m"))
+                    or wp["p"].shape[0] != wall.n or wp["rho"].shape[0] != wall.n):
+                continue
+            edac_wall_diffusion(g.layout, fp["x"], fp["m"], fp["volume"], fp["rho"], fp["p"], wall.x,
+                                wp["m"] / wp["rho"], wp["rho"], wp["p"], wall.cells.start, wall.cells.order, g.lo,
+                                g.inv_cell, g.ncell, g.period, prm, dp)
+
+    def _fluid_state(self):
+        """p (equation of state; EDAC: kept), c, p/rho^2 and m/rho of every fluid particle."""
+        fp = self.fluid.particles
+        if self.physics.edac:
+            edac_state(fp["rho"], fp["m"], fp["p"], self.physics.c0, fp["c"], fp["p_over_rho2"], fp["volume"])
+        else:
+            equation_of_state(fp["rho"], fp["m"], self.physics, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
 
     def _wall_volumes(self, wall):
         """V_b = m_b / rho0 of a wall's particles (the lattice volume for layered walls)."""
@@ -352,7 +423,9 @@ class Simulation(Runner):
             gx=float(g[0]), gy=float(g[1]), gz=float(g[2]),
             alpha_all_pairs=1 if getattr(av, "all_pairs", False) else 0,
             riemann=1 if getattr(fluid, "riemann", None) is not None else 0,
-            riemann_eta=fluid.riemann.eta if getattr(fluid, "riemann", None) is not None else 3.0)
+            riemann_eta=fluid.riemann.eta if getattr(fluid, "riemann", None) is not None else 3.0,
+            edac=1 if getattr(fluid, "edac", None) is not None else 0,
+            edac_nu=fluid.edac.viscosity(h, eos.c0) if getattr(fluid, "edac", None) is not None else 0.0)
 
     def _make_grid(self, domain, periodic):
         support = self.kernel.support(self.h)
@@ -418,7 +491,7 @@ class Simulation(Runner):
                     summation_density(g.layout, fp["x"], fp["m"], wall.x, wall.particles["m"], wall.cells.start,
                                       wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                                       False, rho)
-        equation_of_state(fp["rho"], fp["m"], prm, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
+        self._fluid_state()
         ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing,
                                 rates=fluid_rates_view(fp))
         for wall in self.walls:
@@ -432,7 +505,7 @@ class Simulation(Runner):
             # renormalised_density_gradient (about a tenth of its compile time)
             fp["grad_rho"][:] = 0.0
             fluid_rates(fluid_view(fp), cell_view(g, cells), fp["grad_rho"], prm, ctx.rates, fp["grad_rho_next"],
-                        self._scheme(prm))
+                        self._scheme(prm), fp["dp"] if prm.edac else self._empty_scalar)
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
             grad = fp["grad_rho"]
         elif prm.diffusion == DIFFUSION_RENORMALISED and not lagged:
@@ -445,9 +518,11 @@ class Simulation(Runner):
         else:
             grad = self._empty_grad
         fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, ctx.rates,
-                    fp["grad_rho_next"] if lagged else self._empty_grad, self._scheme(prm))
+                    fp["grad_rho_next"] if lagged else self._empty_grad, self._scheme(prm),
+                    fp["dp"] if prm.edac else self._empty_scalar)
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
+        drho_fluid = fp["drho"].copy() if prm.edac and self.walls else None
         for wall in self.walls:
             if wall.name in self.wall_forces:
                 before = fp["dv"].copy()
@@ -462,6 +537,8 @@ class Simulation(Runner):
                 # asked for by the runner when a VTU frame follows this step; scratch arrays only
                 self.wall_particle_forces[wall.name] = particle_forces(self, wall, ctx)
         self._last_context = ctx
+        if drho_fluid is not None:
+            self._edac_walls(ctx, drho_fluid)
         if self._regularise:
             self._regularisation_sums()
             if self.fluid.transport_velocity is not None:
@@ -618,9 +695,8 @@ class Simulation(Runner):
 
     def _prepare_probes(self):
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])
-        # the equation of state is cheap; it keeps probe pressures consistent with rho
-        fp = self.fluid.particles
-        equation_of_state(fp["rho"], fp["m"], self.physics, fp["p"], fp["c"], fp["p_over_rho2"], fp["volume"])
+        # the equation of state is cheap; it keeps probe pressures consistent with rho (EDAC: p is kept)
+        self._fluid_state()
 
     def _integrate(self, dt):
         self._dt_now = dt
@@ -667,6 +743,8 @@ class Simulation(Runner):
             "h": self.h,
             "dx": self.fluid.spacing,
             "walls": {w.name: w.model.describe() for w in self.walls},
+            "pressure_model": ({"model": "edac", "alpha": self.fluid.edac.alpha, "nu_edac": self.physics.edac_nu}
+                               if self.fluid.edac is not None else {"model": "eos"}),
             **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
                if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
             "hull": _hull_summary(self.hull_box()),

@@ -106,6 +106,10 @@ class WallModel:
     integrated_arrays = ()
     #: whether the wall's masses join the fluid's summation density
     joins_summation_density = False
+    #: None if the model works with a fluid whose pressure is its own variable (EDAC,
+    #: seawall.fluid.edac): its wall state reads the fluid's pressure p, or no fluid state at all.
+    #: Otherwise the reason it does not (one line), with which the simulation refuses the combination.
+    edac_refusal = None
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

@@ -152,6 +152,8 @@ class ModifiedDynamicBoundary(WallModel):
     fluid_terms = frozenset({"continuity", "pressure", "artificial_viscosity", "laminar_viscosity",
                              "shifting", "transport_velocity"})
     joins_summation_density = True
+    edac_refusal = ("its wall pressure is the equation of state of the fluid density it extrapolates, and with "
+                    "EDAC the fluid's density does not set its pressure")
 
     def __init__(self, *, slip="vel0", order=1, det_min=DET_MIN):
         slip = str(slip).strip()

@@ -68,6 +68,8 @@ class Case:
     free_surface: bool = True
     #: the case's default particle regularisation (--set keys of :data:`REGULARISATION_KEYS`)
     regularisation: dict = field(default_factory=dict)
+    #: the case's default pressure model (--set keys of :data:`PRESSURE_KEYS`; empty: the equation of state)
+    pressure: dict = field(default_factory=dict)
 
     def _regularisation(self, sim, given):
         return _case_regularisation(self, sim, given)
@@ -111,6 +113,7 @@ class Case:
         model_options = {k: overrides.pop(k) for k in list(overrides) if k in model_keys}
         adhesion = overrides.pop(ADHESION_KEY, None)
         given_regularisation = {k: overrides.pop(k) for k in REGULARISATION_KEYS if k in overrides}
+        given_pressure = {k: overrides.pop(k) for k in PRESSURE_KEYS if k in overrides}
         given_options = dict(sorted({**model_options, **({ADHESION_KEY: adhesion} if adhesion is not None else {})}
                                     .items()))
         params = self.resolve(overrides)
@@ -128,6 +131,9 @@ class Case:
         regularisation = self._regularisation(sim, given_regularisation)
         if regularisation is not None:
             params.update(regularisation)
+        pressure = _case_pressure(self, sim, given_pressure)
+        if pressure is not None:
+            params.update(pressure)
         if adhesion is not None:
             try:
                 beta = float(adhesion)
@@ -158,6 +164,42 @@ AT_LEAST_ONE = ("layers",)
 #: shifting = none | sun2017 | lind2012; transport_velocity = true | false; tvf_background = p_b / (rho0 c0^2);
 #: tvf_free_surface = the transport velocity's free-surface correction (true | false)
 REGULARISATION_KEYS = ("shifting", "transport_velocity", "tvf_background", "tvf_free_surface")
+
+
+#: the --set keys of the fluid's pressure model, any SPH case: pressure_model = eos | edac ([Ramachandran2019],
+#: seawall.fluid.edac); edac_alpha = alpha of nu_edac = alpha h c0 / 8 (0.5). Not "pressure": lust takes
+#: that key for its wall pressure
+PRESSURE_KEYS = ("pressure_model", "edac_alpha")
+
+
+def _case_pressure(case, sim, given):
+    """Apply the case's default pressure model overridden by ``given`` (--set keys) to ``sim``; return the
+    resolved keys (for the parameters in summary.json and checkpoints), or None for a run without a fluid."""
+    from ..fluid.edac import EDAC, PRESSURE_MODELS
+
+    if not hasattr(sim, "set_pressure_model"):
+        if given:
+            raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
+        return None
+    opts = {**case.pressure, **given}
+    name = str(opts.get("pressure_model", "eos")).strip().lower()
+    if name not in PRESSURE_MODELS:
+        raise ParameterError(f"pressure_model must be one of {', '.join(PRESSURE_MODELS)}; "
+                             f"got {opts['pressure_model']!r}")
+    if name != "edac":
+        if "edac_alpha" in given:
+            raise ParameterError("edac_alpha needs --set pressure_model=edac")
+        if sim.fluid.edac is not None:     # a builder that chose EDAC itself
+            return {"pressure_model": "edac", "edac_alpha": sim.fluid.edac.alpha}
+        return {"pressure_model": "eos", "edac_alpha": None}
+    try:
+        alpha = float(opts.get("edac_alpha", 0.5))
+    except (TypeError, ValueError):
+        raise ParameterError(f"edac_alpha must be a number, got {opts['edac_alpha']!r}") from None
+    if not (math.isfinite(alpha) and alpha > 0.0):
+        raise ParameterError(f"edac_alpha must be a finite number > 0, got {opts['edac_alpha']!r}")
+    sim.set_pressure_model(EDAC(alpha=alpha))
+    return {"pressure_model": "edac", "edac_alpha": alpha}
 
 
 def _bool_option(key, value):

@@ -45,3 +45,7 @@ class Physics(NamedTuple):
     # and the eta of its low-dissipation limiter
     riemann: int = 0
     riemann_eta: float = 3.0
+    # pressure by the EDAC equation ([Ramachandran2019]; 0 = the equation of state of the density) and its
+    # damping viscosity nu_edac = alpha h c0 / 8 [m^2/s]
+    edac: int = 0
+    edac_nu: float = 0.0

@@ -28,6 +28,9 @@ the loops run in parallel with ``prange``. Formulas and their sources:
   Riemann problem with the low-dissipation limiter (seawall.pairs.riemann_*)
 * XSPH: dx_i/dt = v_i + eps sum_j (m_j / rho_ij) (v_j - v_i) W_ij   ([Li2022], eq. 10;
   the extracted text lost the sign of v_ij, restored from Monaghan 1989)
+* EDAC pressure (``prm.edac``, [Ramachandran2019] sec. 3): dp_i/dt = c0^2 rho_i sum_j V_j v_ij . grad_i W_ij
+  + (1/m_i) sum_j (V_i^2 + V_j^2) eta_ij (p_i - p_j) (r_ij . grad_i W_ij)/(r_ij^2 + eta^2),
+  eta_ij = 2 eta_i eta_j / (eta_i + eta_j), eta = rho nu_edac (seawall.fluid.edac)
 """
 
 import numpy as np
@@ -35,7 +38,8 @@ from numba import njit, prange
 
 from ..eos import eos_pressure, eos_sound_speed
 from ..kernels import kernel_gradient_factor, kernel_shape
-from ..pairs import (continuity, density_diffusion, gradient_factor, kernel_value, laminar_viscosity,
+from ..pairs import (continuity, density_diffusion, edac_diffusion, edac_divergence, gradient_factor, kernel_value,
+                     laminar_viscosity,
                      monaghan_viscosity, pressure_acceleration, riemann_continuity, riemann_fluid_jump,
                      riemann_momentum_coefficient, riemann_pressure, tensile_coefficient, tensile_term, viscosity_acts, xsph_weight)
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
@@ -172,7 +176,7 @@ def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_
 
 def scheme_tag(prm):
     """The fluid loop's switches (kernel, Riemann, tensile, laminar viscosity, diffusion, lagged gradient,
-    XSPH, artificial viscosity and its pair rule) as compile-time constants.
+    XSPH, artificial viscosity and its pair rule, EDAC pressure) as compile-time constants.
 
     A tuple of zero-size arrays whose numbers of axes are the switches' values + 1, the same device as
     :func:`seawall.neighbors.layout_tag`: Numba compiles one :func:`fluid_rates` per combination and
@@ -183,7 +187,7 @@ def scheme_tag(prm):
     """
     switches = (prm.kernel, prm.riemann != 0, prm.tensile != 0, prm.nu > 0.0, prm.diffusion,
                 prm.diffusion == DIFFUSION_RENORMALISED and prm.lagged_gradient != 0, prm.xsph > 0.0,
-                prm.alpha > 0.0, prm.alpha_all_pairs != 0)
+                prm.alpha > 0.0, prm.alpha_all_pairs != 0, prm.edac != 0)
     return tuple(np.empty((0,) * (int(v) + 1)) for v in switches)
 
 
@@ -194,7 +198,7 @@ def tag_value(tag):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
+def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
 
     ``fluid`` is a :class:`~seawall.views.FluidView`, ``cells`` the fluid's
@@ -204,7 +208,8 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
     eq. 11). Gravity is added here too, so wall models only add their own terms
     afterwards. The pair terms are those of :mod:`seawall.pairs`;
     ``prm.alpha_all_pairs`` applies the artificial viscosity to receding pairs too. ``scheme`` is
-    :func:`scheme_tag` of ``prm``: which terms exist is fixed at compile time.
+    :func:`scheme_tag` of ``prm``: which terms exist is fixed at compile time. With EDAC
+    (``prm.edac``) ``dp`` receives the fluid pairs' dp/dt of [Ramachandran2019] (else it is not touched).
     """
     layout = cells.layout
     x = fluid.x
@@ -235,6 +240,8 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
     eta2 = prm.eta2
     diff_coef = prm.delta * h * prm.c0
     rho0c0 = prm.rho0 * prm.c0
+    c2 = prm.c0 * prm.c0
+    nu_edac = prm.edac_nu
     for i in prange(n):
         # read inside the parallel body: values computed outside it reach the outlined loop as
         # run-time arguments, and their branches would not fold
@@ -247,6 +254,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
         use_xsph = tag_value(scheme[6]) != 0
         artificial = tag_value(scheme[7]) != 0
         all_pairs = tag_value(scheme[8])
+        edac = tag_value(scheme[9]) != 0
         renorm = diffusion == DIFFUSION_RENORMALISED
         dim = tag_dim(layout)   # likewise: computed outside, dim and periodicity would not fold
         periodic = tag_periodic(layout)
@@ -273,6 +281,12 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
         mu_den = 1.0
         a00 = a01 = a02 = a11 = a12 = a22 = 0.0
         g0 = g1 = g2 = 0.0
+        dpi = 0.0
+        if edac:
+            vol_i = volume[i]
+            inv_m_i = 1.0 / m[i]
+        else:
+            vol_i = inv_m_i = 0.0
         for row in range(nrows):
             for part in range(2):
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
@@ -300,6 +314,9 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
                     else:
                         dr += continuity(mj, vr, f)
                         coef = pr_i + p_over_rho2[j]
+                    if edac:
+                        dpi += edac_divergence(c2, rhoi, volume[j], vr, f)
+                        dpi += edac_diffusion(vol_i, volume[j], inv_m_i, rhoi, rhoj, nu_edac, pi, p[j], f, r2, eta2)
                     if tensile:
                         rj = tensile_coefficient(p[j], rhoj)
                         coef += tensile_term(ri, rj, kernel_value(kernel, prm.sigma, qq) * prm.inv_w_dx)
@@ -352,6 +369,8 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme):
         if dim == 3:
             dv[i, 2] = a2 + prm.gz
         drho[i] = dr
+        if edac:
+            dp[i] = dpi
         eps = prm.xsph
         xsph[i, 0] = eps * x0
         xsph[i, 1] = eps * x1

@@ -6,6 +6,7 @@ from ..eos import EquationOfState
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..particles import ParticleArrays, initial_velocity
 from .models import ArtificialViscosity, LaminarViscosity, MolteniColagrossi, RiemannSolver
+from .edac import as_pressure_model
 from .regularisation import as_shifting, as_transport_velocity
 
 DENSITY_MODES = ("continuity", "summation")
@@ -51,12 +52,17 @@ class FluidSystem:
         Transport-velocity formulation of [Adami2013] (background-pressure
         advection velocity and the extra stress); ``True`` = p_b = rho0 c0^2,
         no free-surface correction (internal flows). Default None (off).
+    pressure_model : None, "eos", "edac" or EDAC
+        How the pressure is found: None / "eos" (default) from the density by the equation of
+        state; "edac" (or ``seawall.fluid.EDAC(alpha=...)``) as a particle variable evolved by the
+        entropically damped artificial compressibility equation of [Ramachandran2019]
+        (seawall.fluid.edac). The EOS then only gives c0 and the initial pressure.
     """
 
     def __init__(self, shape, *, rho0=1000.0, eos=None, viscosity="default",
                  density_diffusion=None, density="continuity", tensile_correction=False,
                  xsph=0.0, velocity=None, pressure=None, shifting=None, transport_velocity=None,
-                 name="fluid", riemann=None):
+                 name="fluid", riemann=None, pressure_model=None):
         x = np.ascontiguousarray(getattr(shape, "positions", None), dtype=np.float64)
         if x.ndim != 2 or x.shape[1] not in (2, 3) or x.shape[0] == 0:
             raise ParameterError(f"fluid positions must be an (N, 2) or (N, 3) array with N > 0, got {x.shape}")
@@ -121,6 +127,33 @@ class FluidSystem:
         pa.add("id", np.arange(n, dtype=np.int64))
         self.particles = pa
         self.initial_mass = float(pa["m"].sum())
+        self.pressure_model = None
+        self.set_pressure_model(pressure_model)
+
+    def set_pressure_model(self, pressure_model):
+        """Set the pressure model (as the constructor takes it), refusing the combinations that make no
+        sense with EDAC in one line each."""
+        model = as_pressure_model(pressure_model)
+        if model is not None:
+            if self.riemann is not None:
+                raise ParameterError("pressure_model=edac: the Riemann formulation's interface pressure and its density "
+                                     "dissipation are built on the equation of state; use one or the other")
+            if self.density_diffusion is not None and self.density_diffusion.delta > 0:
+                raise ParameterError("pressure_model=edac: density diffusion (delta-SPH) smooths the density, which "
+                                     "no longer sets the pressure (EDAC damps the pressure itself); set delta=0 "
+                                     "(density_diffusion=None)")
+        if model is not None and self.pressure_model is None:
+            # EDAC evolves p from the pressure of the start: the equation of state of the initial density
+            # (which the constructor took from the given initial pressure)
+            pa = self.particles
+            pa["p"][:] = np.asarray(self.eos.pressure(pa["rho"], self.rho0), dtype=np.float64).reshape(pa.n)
+        self.pressure_model = model
+        return model
+
+    @property
+    def edac(self):
+        """The :class:`~seawall.fluid.edac.EDAC` pressure model, or None (equation of state)."""
+        return self.pressure_model
 
     @property
     def n(self):
