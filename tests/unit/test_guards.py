@@ -262,9 +262,12 @@ def test_wall_guard_codes_equal_those_of_the_full_search():
     wall = sim.walls[0]
     pa = wall.particles
     rng = np.random.default_rng(3)
-    lo = pa["x"].min(axis=0)
-    hi = np.array([pa["x"][:, 0].max(), 0.25])           # below the walls' top
-    fp["x"][:] = rng.uniform(lo, hi, size=fp["x"].shape)
+    lo = pa["x"].min(axis=0) - 0.5 * sim.fluid.spacing   # the walls' outer faces
+    # half over the left wall and the water beside it, half over the floor and the water above it
+    # (below the walls' top); the walls are 0.06 m thick, the support 0.052 m
+    half = fp.n // 2
+    fp["x"][:half] = rng.uniform(lo, (lo[0] + 0.12, 0.25), size=(half, 2))
+    fp["x"][half:] = rng.uniform(lo, (pa["x"][:, 0].max(), lo[1] + 0.12), size=(fp.n - half, 2))
     depth = sim.kernel.support(sim.h)
     codes = np.zeros(fp.n, dtype=np.int8)
     from seawall.health import wall_depth_codes, walls_top
