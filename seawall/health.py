@@ -172,12 +172,14 @@ def walls_top(walls, gravity, dx):
 
 
 @njit(cache=True, parallel=True)
-def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2,
-                          deepest):
+def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, reach, deep_cells, lo, inv_cell, ncell,
+                          radius2, deepest):
     """deepest[i] = min(deepest[i], signed distance of particle i from this wall's surface) for the
     particles the wall guard tests (kept or density-flagged, below ``level`` along ``axis`` when
-    axis >= 0). The distance is :func:`seawall.diagnostics.signed_wall_distance`'s; one parallel
-    pass without temporary arrays (the masks and copies it replaced took ~1 ms a step at 80k)."""
+    axis >= 0) whose cell is marked in ``deep_cells`` (:func:`cells_maybe_deep`: elsewhere no
+    distance can fall below the guard's depth, so the search is skipped). The distance is
+    :func:`seawall.diagnostics.signed_wall_distance`'s; one parallel pass without temporary arrays
+    (the masks and copies it replaced took ~1 ms a step at 80k)."""
     dim = x.shape[1]
     for i in prange(x.shape[0]):
         c = codes[i]
@@ -188,11 +190,11 @@ def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, r
         p0 = x[i, 0]
         p1 = x[i, 1]
         p2 = x[i, 2] if dim == 3 else 0.0
-        # the reach test before the call: most particles are far from every wall, and the call costs more
+        # the cell test before the call: most particles cannot be deep in this wall, and the call costs more
         c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
         c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
         c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
-        if reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
+        if deep_cells[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
             continue
         b = nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2)
         if b >= 0:
@@ -201,6 +203,83 @@ def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, r
                 s += (p2 - sw[b, 2]) * nw[b, 2]
             if s < deepest[i]:
                 deepest[i] = s
+
+
+@njit(cache=True)   # serial: once per wall cell list (static walls: once per run)
+def cells_maybe_deep(xw, nw, sw, cell, lo, cell_size, ncell, depth):
+    """Mask of the cells where a point may lie more than ``depth`` behind this wall's surface.
+
+    The guard's distance of a point in cell C is (x - s_b) . n_b for one wall particle b in the
+    5^d cells around C (:func:`seawall.diagnostics.nearest_wall_particle`), so it is at least
+    the minimum over those b and over the cell's box of that linear function, reached at the
+    box corner opposite to n_b. Cells whose minimum is above -depth cannot hold a particle the
+    guard removes and are not searched: the test decides exactly as the search would, and most
+    fluid particles near a wall are in such cells. The box is widened by 1e-6 of a cell (the
+    cell index is a rounded product) and open on the grid's outer faces (positions beyond are
+    clamped into the edge cells); the threshold keeps a margin of 1e-6 of a cell over the
+    round-off of the distance.
+    """
+    nx, ny, nz = ncell[0], ncell[1], ncell[2]
+    dim = xw.shape[1]
+    floor = np.full(nx * ny * nz, np.inf)
+    zr = 2 if dim == 3 else 0
+    slack = 1e-6 * cell_size.min()
+    for b in range(xw.shape[0]):
+        cb = cell[b]
+        bx = cb % nx
+        by = (cb // nx) % ny
+        bz = cb // (nx * ny)
+        for oz in range(-zr, zr + 1):
+            cz = bz + oz
+            if cz < 0 or cz >= nz:
+                continue
+            for oy in range(-2, 3):
+                cy = by + oy
+                if cy < 0 or cy >= ny:
+                    continue
+                for ox in range(-2, 3):
+                    cx = bx + ox
+                    if cx < 0 or cx >= nx:
+                        continue
+                    m = 0.0
+                    for k in range(dim):
+                        n = nw[b, k]
+                        if n == 0.0:
+                            continue
+                        ck = cx if k == 0 else (cy if k == 1 else cz)
+                        if n > 0.0:   # the box's low face minimises n . x
+                            corner = -np.inf if ck == 0 else lo[k] + ck * cell_size[k] - slack
+                        else:
+                            corner = np.inf if ck == ncell[k] - 1 else lo[k] + (ck + 1) * cell_size[k] + slack
+                        m += n * (corner - sw[b, k])
+                    c = cx + nx * (cy + ny * cz)
+                    if m < floor[c]:
+                        floor[c] = m
+    out = np.zeros(nx * ny * nz, dtype=np.uint8)
+    threshold = -depth + slack
+    for c in range(nx * ny * nz):
+        if floor[c] < threshold:
+            out[c] = 1
+    return out
+
+
+def _deep_cells(wall, grid, depth):
+    """:func:`cells_maybe_deep` of a static wall, kept while its cell list and the depth are the same.
+
+    A moving wall gets its reach mask instead (every cell a search can find a wall particle
+    from, the test before this filter): the filter visits 5^d cells per wall particle, which
+    pays once per run but not at every step of a large moving wall.
+    """
+    if wall.movement is not None:
+        return wall.cells.reach_mask(grid)
+    cached = getattr(wall, "_deep_cells_cache", None)
+    if cached is not None and cached[0] is wall.cells and cached[1] == depth:
+        return cached[2]
+    pa = wall.particles
+    mask = cells_maybe_deep(pa["x"], pa["normal"], pa["surface"], wall.cells.cell, grid.lo, grid.cell_size,
+                            grid.ncell, float(depth))
+    wall._deep_cells_cache = (wall.cells, depth, mask)
+    return mask
 
 
 def wall_depth_codes(sim, depth, codes, top=None):
@@ -219,8 +298,8 @@ def wall_depth_codes(sim, depth, codes, top=None):
         if deepest is None:
             deepest = np.full(fp.n, np.inf)
         deepest_wall_distance(fp["x"], codes, axis, up, level, pa["x"], pa["normal"], pa["surface"], wall.cells.start,
-                              wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell,
-                              sim.physics.support2, deepest)
+                              wall.cells.order, wall.cells.reach_mask(g), _deep_cells(wall, g, depth), g.lo,
+                              g.inv_cell, g.ncell, sim.physics.support2, deepest)
     if deepest is not None:
         codes[deepest < -depth] = WALL
 

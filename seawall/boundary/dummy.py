@@ -55,9 +55,15 @@ DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv_cell, ncell, period, prm,
+def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, lo, inv_cell, ncell, period, prm,
                      noslip, clip_negative, pw, rhow, vw_visc):
-    """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle."""
+    """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle.
+
+    ``reach`` is the fluid cell list's reach mask (``CellList.reach_mask``): a wall particle in a
+    cell outside it has no fluid particle in the cells its walk would visit, so the walk is skipped
+    and it gets the no-neighbour values below, exactly what the walk would have given (sw = 0).
+    In the 3D dam break most of the 76k wall particles are such.
+    """
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
     for b in prange(nw):
@@ -73,7 +79,8 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, lo, inv
         sw = 0.0
         sp = 0.0
         sv0 = sv1 = sv2 = 0.0
-        for row in range(nrows):
+        nrows_walked = nrows if reach[cx + ncell[0] * (cy + ncell[1] * cz)] != 0 else 0
+        for row in range(nrows_walked):
             for part in range(2):
                 ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 for k in range(ka, kb):
@@ -429,7 +436,8 @@ class DummyParticles(WallModel):
             p_out = pa["p"] if own else np.empty(wall.n)
             rho_out = pa["rho"] if own else np.empty(wall.n)
             adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
-                             cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, noslip,
+                             cells.start, cells.order, cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, g.period,
+                             prm, noslip,
                              self.clip_negative_pressure, p_out, rho_out, pa["v_visc"])
         if self.density == "summation":
             wall_summation_density(g.layout, pa["x"], pa["m"], wall.cells.start, wall.cells.order, fp["x"],

@@ -212,3 +212,68 @@ def test_dam_break_tank_height_and_lid():
     assert tall.walls[0].x[:, 1].max() == pytest.approx(4 * H - 0.015)
     with pytest.raises(ParameterError, match="tank_height"):
         build("dam-break", dx=0.03, tank_height=0.9)
+
+
+@pytest.mark.parametrize("case,kwargs", [
+    ("hydrostatic", dict(dx=0.02, length=0.5, depth=0.2, height=0.3)),
+    ("dam-break-3d", dict(dx=0.05, lid=False)),
+])
+def test_cells_skipped_by_the_wall_guard_hold_no_deep_point(case, kwargs):
+    # the guard searches only the cells where cells_maybe_deep allows a point deeper than the support;
+    # points scattered over the walls and the tank must never be deeper than that elsewhere
+    from seawall.diagnostics import signed_wall_distance
+    from seawall.health import cells_maybe_deep
+
+    sim = build(case, **kwargs)
+    g = sim.grid
+    depth = sim.kernel.support(sim.h)
+    rng = np.random.default_rng(7)
+    for wall in sim.walls:
+        pa = wall.particles
+        lo = pa["x"].min(axis=0) - 0.5 * sim.fluid.spacing
+        hi = pa["x"].max(axis=0) + 0.5 * sim.fluid.spacing
+        points = rng.uniform(lo, hi, size=(40_000, sim.dim))
+        s = np.empty(points.shape[0])
+        reach = wall.cells.reach_mask(g)
+        signed_wall_distance(points, pa["x"], pa["normal"], pa["surface"], wall.cells.start, wall.cells.order, reach,
+                             g.lo, g.inv_cell, g.ncell, sim.physics.support2, s)
+        deep_cells = cells_maybe_deep(pa["x"], pa["normal"], pa["surface"], wall.cells.cell, g.lo, g.cell_size,
+                                      g.ncell, depth)
+        p3 = np.zeros((points.shape[0], 3))
+        p3[:, :sim.dim] = points
+        c = np.minimum(np.maximum(((p3 - g.lo) * g.inv_cell).astype(np.int64), 0), g.ncell - 1)
+        flat = c[:, 0] + g.ncell[0] * (c[:, 1] + g.ncell[1] * c[:, 2])
+        deep = s < -depth
+        assert deep.sum() > 100                           # the scatter does reach behind the walls
+        assert np.all(deep_cells[flat[deep]] == 1)
+        # and it is a filter: the points near a wall but not deep in it are mostly in skipped cells
+        near = np.isfinite(s) & (s > 0.0)
+        assert np.mean(deep_cells[flat[near]] == 0) > 0.5
+
+
+def test_wall_guard_codes_equal_those_of_the_full_search():
+    # particles thrown over the whole tank, walls included: the guard flags exactly those the
+    # signed distance (searched for every particle) puts deeper than the support
+    from seawall.diagnostics import signed_wall_distance
+
+    sim = tank_250()
+    g = sim.grid
+    fp = sim.fluid.particles
+    wall = sim.walls[0]
+    pa = wall.particles
+    rng = np.random.default_rng(3)
+    lo = pa["x"].min(axis=0) - 0.5 * sim.fluid.spacing   # the walls' outer faces
+    # half over the left wall and the water beside it, half over the floor and the water above it
+    # (below the walls' top); the walls are 0.06 m thick, the support 0.052 m
+    half = fp.n // 2
+    fp["x"][:half] = rng.uniform(lo, (lo[0] + 0.12, 0.25), size=(half, 2))
+    fp["x"][half:] = rng.uniform(lo, (pa["x"][:, 0].max(), lo[1] + 0.12), size=(fp.n - half, 2))
+    depth = sim.kernel.support(sim.h)
+    codes = np.zeros(fp.n, dtype=np.int8)
+    from seawall.health import wall_depth_codes, walls_top
+    wall_depth_codes(sim, depth, codes, walls_top(sim.walls, sim.gravity, sim.fluid.spacing))
+    s = np.empty(fp.n)
+    signed_wall_distance(fp["x"], pa["x"], pa["normal"], pa["surface"], wall.cells.start, wall.cells.order,
+                         wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, sim.physics.support2, s)
+    assert np.count_nonzero(s < -depth) > 5
+    assert np.array_equal(codes == WALL, s < -depth)
