@@ -22,14 +22,11 @@ EXIT_TERMINATED = 143
 
 
 def _parse_sets(items):
+    from .sweep import split_set_item
+
     params = {}
     for item in items or []:
-        if "=" not in item:
-            raise _bad_input(f"--set expects KEY=VALUE, got {item!r}")
-        key, value = item.split("=", 1)
-        key = key.strip().replace("-", "_")
-        if not key:
-            raise _bad_input(f"--set expects KEY=VALUE, got {item!r}")
+        key, value = split_set_item(item)
         params[key] = value.strip()
     return params
 

@@ -31,17 +31,22 @@ RESULT_COLUMNS = ["status", "escaped", "min_wall_distance_dx", "wall_pressure_er
                   "escaped_wall", "escaped_unstable", "run_dir"]
 
 
+def split_set_item(item, form="KEY=VALUE"):
+    """One ``--set`` item -> (key, value text), the key as ``seawall run --set`` reads it (``-`` is
+    ``_``). No ``=`` or an empty key stops in one line naming the expected ``form``."""
+    key, sep, text = item.partition("=")
+    key = key.strip().replace("-", "_")
+    if not sep or not key:
+        raise ParameterError(f"--set expects {form}, got {item!r}")
+    return key, text
+
+
 def parse_sweep_sets(items):
-    """``--set K=v1,v2`` items -> ``{K: [v1, v2]}`` in the order given (keys as ``seawall run --set``
-    reads them: ``-`` is ``_``). Bad syntax, an empty value or a key given twice stop in one line."""
+    """``--set K=v1,v2`` items -> ``{K: [v1, v2]}`` in the order given. Bad syntax, an empty value or
+    a key given twice stop in one line."""
     grid = {}
     for item in items or []:
-        if "=" not in item:
-            raise ParameterError(f"--set expects KEY=VALUE[,VALUE...], got {item!r}")
-        key, text = item.split("=", 1)
-        key = key.strip().replace("-", "_")
-        if not key:
-            raise ParameterError(f"--set expects KEY=VALUE[,VALUE...], got {item!r}")
+        key, text = split_set_item(item, "KEY=VALUE[,VALUE...]")
         values = [v.strip() for v in text.split(",")]
         if not text.strip() or any(not v for v in values):
             raise ParameterError(f"--set {key}: a value is empty in {item!r} (values are separated by commas)")
