@@ -496,8 +496,8 @@ class DistributedSimulation:
         if isinstance(out, LineSampler):
             raise ParameterError("MPI: the line sampler is not decomposed; run it in one process")
         out = super()._adopt_output(out)
-        if isinstance(out, VTK) and not isinstance(out, GatheredVTK):
-            return GatheredVTK(out, self.comm)
+        if isinstance(out, VTK) and not isinstance(out, DecomposedVTK):
+            return DecomposedVTK(out, self.comm)
         return out
 
     def run(self, t_end, *, progress=True, probe_csv=None, max_steps=None):
@@ -570,6 +570,13 @@ class DistributedSimulation:
         finally:
             self.fluid.particles = fp
 
+    def _frame_format(self):
+        """How the fluid frames are written, for the summary (None without VTU output)."""
+        for out in self.outputs:
+            if isinstance(out, DecomposedVTK):
+                return "vtu gathered on rank 0" if out.gather else "pvtu, one vtu piece per rank"
+        return None
+
     def save_checkpoint(self, path):
         self._sync_walls()
         whole = self._gather_fluid()
@@ -602,13 +609,21 @@ class DistributedSimulation:
                     "rebalances": int(self.mpi_stats["rebalances"]),
                     "comm_seconds_max_rank": float(comm_max),
                     "comm_seconds_per_step": float(comm_max / steps) if steps else None,
-                    "walls": "replicated on every rank"},
+                    "walls": "replicated on every rank",
+                    "fluid_frames": self._frame_format()},
         })
         return out
 
 
-class GatheredVTK(VTK):
-    """The VTU/PVD series of a decomposed run: rank 0 writes the whole fluid, gathered, in the serial files."""
+class DecomposedVTK(VTK):
+    """The VTU/PVD series of a decomposed run.
+
+    By default each rank writes its owned fluid particles as one piece, ``fluid_{k:05d}_p{rank}.vtu``,
+    and rank 0 writes the frame ``fluid_{k:05d}.pvtu`` naming the pieces (rank order) and lists it in
+    ``fluid.pvd``, so no rank ever holds the whole fluid. With ``gather`` (``--vtk-gather``) rank 0
+    gathers the fluid, sorted by id, and writes the serial ``fluid_{k:05d}.vtu`` instead. The walls are
+    replicated: rank 0 writes their serial series, after the integrated wall arrays are synchronised.
+    """
 
     def __init__(self, inner, comm):
         self.__dict__.update(inner.__dict__)
@@ -628,13 +643,46 @@ class GatheredVTK(VTK):
 
     def write(self, sim):
         sim._sync_walls()
-        whole = sim._gather_fluid()
-        if self.comm.Get_rank() == 0:
-            with sim._whole_fluid(whole):
-                super().write(sim)
+        if self.gather:
+            whole = sim._gather_fluid()
+            if self.comm.Get_rank() == 0:
+                with sim._whole_fluid(whole):
+                    super().write(sim)
         else:
+            self._write_pieces(sim)
+        if self.comm.Get_rank() != 0:
             self.next_time = next_due(self.next_time, self.every, sim.time)
         self._last = sim.time
+
+    def _write_pieces(self, sim):
+        from ..io.vtk import write_pvtu, write_vtu
+
+        rank = self.comm.Get_rank()
+        index = self.comm.bcast(self._fluid.next_index if rank == 0 else None, root=0)
+        stem = f"fluid_{index:05d}"
+        sources = [f"{stem}_p{r}.vtu" for r in range(self.comm.Get_size())]
+        metadata = {**self._metadata(sim, "fluid"), "pieces": len(sources)}
+        error = None
+        with sim._owned_view() as view:
+            data = self.fluid_point_data(sim, view)
+            try:
+                write_vtu(os.path.join(self.directory, sources[rank]), view["x"], data,
+                          metadata={**metadata, "piece": rank}, **self._options(sim))
+            except OSError as exc:
+                error = exc
+            # the frame is listed only once every piece is on disk; a rank that failed stops every rank
+            failed = [(r, e) for r, e in enumerate(self.comm.allgather(None if error is None else str(error))) if e]
+            if failed:
+                if error is not None:
+                    raise error
+                raise OSError(f"rank {failed[0][0]} could not write its piece of frame {stem}: {failed[0][1]}")
+            if rank == 0:
+                pvtu = write_pvtu(os.path.join(self.directory, f"{stem}.pvtu"), sources, view["x"], data,
+                                  metadata=metadata, compress=self.compress, float32=self.float32)
+                self._fluid.add(sim.time, os.path.basename(pvtu))
+        if rank == 0:
+            self.write_walls(sim)
+            self.next_time = next_due(self.next_time, self.every, sim.time)
 
     def last_time(self):
         # every rank must agree on whether a last frame is due (writing one is collective)
