@@ -57,7 +57,8 @@ MARGIN_SUPPORTS = 1.0
 #: docs/parallel.md); the others are refused until they are compared
 VERIFIED_MODELS = ("adami", "adami-noslip", "summation", "continuity", "zeroing", "dbc", "idbc", "ghost-mls1",
                    "monaghan-kajtar", "liu2015")
-#: set (to anything) by benchmarks/mpi_agreement.py: run a model not yet compared, to compare it
+#: set (to anything) by benchmarks/mpi_agreement.py: run a model not yet compared (or one that differed), to
+#: compare it
 COMPARE_ANY_MODEL = "SEAWALL_MPI_COMPARE_ANY_MODEL"
 #: wall models whose decomposed run differed from one process beyond round-off (docs/parallel.md):
 #: lust, 2e-5 in the kinetic energy after 3465 steps of the coarse dam break, mirroring 1.3e-5 in the wall
@@ -73,10 +74,14 @@ IMBALANCE = 0.10
 
 # ---------------------------------------------------------------------------- what can be decomposed
 def _probe_reduction(probe):
-    """How a probe's value is combined over ranks: 'sum', 'max', 'min', 'point', 'global' or None."""
+    """How a probe's value is combined over ranks: 'sum', 'max', 'min', 'point', 'global' (every rank
+    computes the same value) or None. A probe class may declare its own (``mpi_reduction``)."""
     from ..compare import MinWallDistance
     from ..probes import KineticEnergy, PressureSensor, SurgeFront, TotalMass, WallForce, WallPressure, Pressure
 
+    declared = getattr(probe, "mpi_reduction", None)
+    if declared is not None:
+        return declared
     if isinstance(probe, (KineticEnergy, TotalMass)):
         return "sum"
     if isinstance(probe, SurgeFront):
@@ -99,17 +104,15 @@ def refusal(sim):
     if sim.couplings:
         names = ", ".join(f"{c.name} ({type(c).__name__})" for c in sim.couplings)
         return f"MPI: coupling {names} acts on the whole fluid and is not decomposed; run it in one process"
+    comparing = bool(os.environ.get(COMPARE_ANY_MODEL))
     for w in sim.walls:
         name = getattr(w.model, "name", type(w.model).__name__)
-        if name in DIFFERING_MODELS:
+        if name in DIFFERING_MODELS and not comparing:
             return (f"MPI: wall {w.name} ({name}): its 2-rank run differed from one process by more than "
                     f"round-off (docs/parallel.md); run it in one process")
-        if name not in VERIFIED_MODELS and not os.environ.get(COMPARE_ANY_MODEL):
+        if name not in VERIFIED_MODELS and not comparing:
             return (f"MPI: wall {w.name} ({name}): this wall model has not been compared with one process on "
                     f"several ranks (verified: {', '.join(VERIFIED_MODELS)}); run it in one process")
-    moving = [w.name for w in sim.walls if w.movement is not None]
-    if moving:
-        return f"MPI: moving wall {', '.join(moving)} is not decomposed; run it in one process"
     if sim.fluid.shifting is not None or sim.fluid.transport_velocity is not None:
         return "MPI: particle shifting / the transport velocity is not decomposed; run it in one process"
     if slabs.longest_axis(sim.grid.lo[:sim.dim], sim.grid.hi[:sim.dim], sim.grid.periodic) is None:

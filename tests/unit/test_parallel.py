@@ -70,6 +70,9 @@ def test_couplings_and_unverified_models_are_refused_by_name():
     other = case_by_name("dam-break").build(boundary="liu2012", H=0.1, dx=0.01)
     assert refusal(other).startswith("MPI: wall tank (liu2012): this wall model has not been compared")
 
+    # prescribed motion is a function of time, replicated on every rank: decomposed (docs/parallel.md)
+    assert refusal(case_by_name("moving-wall").build(boundary="adami", dx=0.05)) is None
+
     sim.couplings.append(Anchor())
     assert refusal(sim) == ("MPI: coupling anchor (Anchor) acts on the whole fluid and is not decomposed; "
                             "run it in one process")
