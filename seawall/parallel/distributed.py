@@ -56,7 +56,7 @@ MARGIN_SUPPORTS = 1.0
 #: wall models whose decomposed run matched one process to round-off (benchmarks/mpi_agreement.py,
 #: docs/parallel.md); the others are refused until they are compared
 VERIFIED_MODELS = ("adami", "adami-noslip", "summation", "continuity", "zeroing", "dbc", "idbc", "ghost-mls1",
-                   "ghost-mls2", "monaghan-kajtar", "liu2015", "liu2015-noslip", "liu2012")
+                   "ghost-mls2", "ghost-sfdi", "monaghan-kajtar", "liu2015", "liu2015-noslip", "liu2012")
 #: set (to anything) by benchmarks/mpi_agreement.py: run a model not yet compared (or one that differed), to
 #: compare it
 COMPARE_ANY_MODEL = "SEAWALL_MPI_COMPARE_ANY_MODEL"
