@@ -54,14 +54,14 @@ from . import slabs
 #: kernel supports of margin beyond the dependency depth (motion during one step)
 MARGIN_SUPPORTS = 1.0
 #: wall models whose decomposed run matched one process to round-off (benchmarks/mpi_agreement.py,
-#: docs/parallel.md); the others are refused until they are compared. lust and mirroring differ by more
-#: (2e-5, 1.3e-5 after the impact) but by less than a serial run differs from itself when its initial
-#: positions move by one ulp (0.17, 2.5e-5): LUST's stencil nodes switch on and off at the wall surface,
-#: and mirroring's flow amplifies round-off faster; the decomposition adds nothing to that (docs/parallel.md)
+#: docs/parallel.md); the others are refused until they are compared. lust, mirroring, mdbc and
+#: mdbc-noslip differ by more (2e-5, 1.3e-5, 1.7e-7, 6.7e-7 after the impact) but by what a serial run
+#: differs from itself when its initial positions move by one ulp (0.17, 2.5e-5, 4.8e-8, 7.8e-7): LUST's
+#: stencil nodes switch on and off at the wall surface, the others' flows amplify round-off faster; the
+#: decomposition adds nothing to that (docs/parallel.md)
 VERIFIED_MODELS = ("adami", "adami-noslip", "summation", "continuity", "zeroing", "dbc", "idbc", "ghost-mls1",
-                   "ghost-mls2", "ghost-sfdi", "ghost-normalized", "ghost-shepard",
-                   "monaghan-kajtar", "liu2015", "liu2015-noslip", "liu2012", "lust",
-                   "mirroring")
+                   "ghost-mls2", "ghost-sfdi", "ghost-normalized", "ghost-shepard", "monaghan-kajtar", "liu2015",
+                   "liu2015-noslip", "liu2012", "lust", "mirroring", "mdbc", "mdbc-noslip")
 #: set (to anything) by benchmarks/mpi_agreement.py: run a model not yet compared, to compare it
 COMPARE_ANY_MODEL = "SEAWALL_MPI_COMPARE_ANY_MODEL"
 #: signal names a stop may carry (seawall.interrupts), in the order a reduction by max prefers
