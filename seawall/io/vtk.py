@@ -35,7 +35,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-__all__ = ["write_vtu", "write_pvtu", "read_vtu", "read_vtu_metadata", "PVDSeries"]
+__all__ = ["write_vtu", "write_pvtu", "read_vtu", "read_vtu_metadata", "pvtu_pieces", "PVDSeries"]
 
 _VTK_VERTEX = 1
 
@@ -371,7 +371,8 @@ def _parse(path):
 
 
 def pvtu_pieces(path):
-    """The pieces' paths of a .pvtu (in the order it lists them), checked to declare what the pieces hold."""
+    """The pieces' paths of a .pvtu (in the order it lists them) and its declared point arrays,
+    {name: (VTK type, components)}."""
     path = os.fspath(path)
     root = _parse(path)
     if root.tag != "VTKFile" or root.get("type") != "PUnstructuredGrid":
@@ -389,7 +390,7 @@ def pvtu_pieces(path):
 def _read_pvtu(path):
     pieces, declared = pvtu_pieces(path)
     parts = [read_vtu(p) for p in pieces]
-    for piece, (_, data) in zip(pieces, parts):
+    for piece, (_, data) in zip(pieces, parts):      # a piece of another frame or run would not match
         names = set(data)
         if names != set(declared):
             raise ValueError(f"{path}: piece {os.path.basename(piece)} holds arrays {sorted(names)}, "

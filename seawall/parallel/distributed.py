@@ -676,12 +676,20 @@ class DecomposedVTK(VTK):
                     raise error
                 raise OSError(f"rank {failed[0][0]} could not write its piece of frame {stem}: {failed[0][1]}")
             if rank == 0:
-                pvtu = write_pvtu(os.path.join(self.directory, f"{stem}.pvtu"), sources, view["x"], data,
-                                  metadata=metadata, compress=self.compress, float32=self.float32)
-                self._fluid.add(sim.time, os.path.basename(pvtu))
-        if rank == 0:
-            self.write_walls(sim)
-            self.next_time = next_due(self.next_time, self.every, sim.time)
+                try:
+                    pvtu = write_pvtu(os.path.join(self.directory, f"{stem}.pvtu"), sources, view["x"], data,
+                                      metadata=metadata, compress=self.compress, float32=self.float32)
+                    self._fluid.add(sim.time, os.path.basename(pvtu))
+                    self.write_walls(sim)
+                except OSError as exc:
+                    error = exc
+                self.next_time = next_due(self.next_time, self.every, sim.time)
+        # rank 0's files too: the others must not go on into an exchange rank 0 has left
+        failed = self.comm.bcast(None if error is None else str(error), root=0)
+        if failed:
+            if error is not None:
+                raise error
+            raise OSError(f"rank 0 could not write frame {stem}: {failed}")
 
     def last_time(self):
         # every rank must agree on whether a last frame is due (writing one is collective)
