@@ -68,9 +68,11 @@ def main(argv=None):
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4])
     parser.add_argument("--dx", type=float, default=0.005)
     parser.add_argument("--t-end", type=float, default=0.3)
-    parser.add_argument("--set", action="append", default=["H=0.1"])
+    parser.add_argument("--set", action="append", help="case parameters (default for the dam break: H=0.1)")
     parser.add_argument("--json", help="also write the result here")
     args = parser.parse_args(argv)
+    if args.set is None:
+        args.set = ["H=0.1"] if args.case == "dam-break" else []
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         for n in args.ranks:

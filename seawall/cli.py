@@ -138,6 +138,9 @@ def build_parser():
                      help="VTU floating-point arrays and positions in single precision (about half the size)")
     run.add_argument("--vtk-uncompressed", action="store_true",
                      help="VTU arrays without zlib compression (the default compresses them)")
+    run.add_argument("--vtk-gather", action="store_true",
+                     help="under mpiexec: gather the fluid on rank 0 into one fluid_k.vtu per frame instead of a "
+                          "fluid_k.pvtu with one piece per rank")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.add_argument("--diagnostics", action="store_true",
                      help="also record the smallest fluid-to-wall distance (probe min_wall_distance_dx)")
@@ -442,7 +445,7 @@ def cmd_run(args):
         sim.metadata["restarted_from"] = {"checkpoint": args.restart, "time": sim.time, "step": sim.step}
     if not args.no_vtk:
         sim.add(output.VTK(out, every=args.output_every or case.output_every, compress=not args.vtk_uncompressed,
-                           float32=args.vtk_float32))
+                           float32=args.vtk_float32, gather=args.vtk_gather))
     checkpoint = output.Checkpoint(out, every=args.checkpoint_every or t_end / 10.0)
     sim.add(checkpoint)
     line_files = []

@@ -38,10 +38,16 @@ class VTK:
     ``compress`` (default True): zlib-compressed arrays; ``float32``: write
     floating-point arrays and positions in single precision (about half the
     size again; the particle ids stay exact).
+
+    A decomposed run (``mpiexec``) writes each fluid frame as ``fluid_k.pvtu`` with one piece
+    ``fluid_k_p<rank>.vtu`` per rank, listed in the same ``fluid.pvd``; ``gather=True`` writes the
+    serial ``fluid_k.vtu`` instead (:class:`seawall.parallel.distributed.DecomposedVTK`).
     """
 
-    def __init__(self, directory, *, every=0.02, walls=True, compress=True, float32=False):
+    def __init__(self, directory, *, every=0.02, walls=True, compress=True, float32=False, gather=False):
         self.directory = str(directory)
+        # decomposed runs only: gather the fluid on rank 0 into serial .vtu frames instead of per-rank pieces
+        self.gather = bool(gather)
         self.every = require_positive("every", every)
         self.walls = bool(walls)
         self.compress = bool(compress)
@@ -86,14 +92,23 @@ class VTK:
         fields = {"TimeValue": sim.time, "h": sim.h, "dx": sim.fluid.spacing, "p_background": p_bg, **(extra or {})}
         return {"field_data": fields, "compress": self.compress, "float32": self.float32}
 
+    @staticmethod
+    def fluid_point_data(sim, fp):
+        """The point data of a fluid frame of the particles ``fp``."""
+        return {"velocity": fp["v"], "pressure": fp["p"] - float(sim.physics.p_background),
+                "density": fp["rho"], "mass": fp["m"], "id": fp["id"],
+                **({"zone": fp["zone"]} if "zone" in fp else {})}
+
     def write(self, sim):
         fp = sim.fluid.particles
+        self._fluid.write(sim.time, fp["x"], self.fluid_point_data(sim, fp),
+                          metadata=self._metadata(sim, "fluid"), **self._options(sim))
+        self.write_walls(sim)
+        self.next_time = next_due(self.next_time, self.every, sim.time)
+
+    def write_walls(self, sim):
+        """One frame of every wall series."""
         p_bg = float(sim.physics.p_background)
-        self._fluid.write(sim.time, fp["x"], {
-            "velocity": fp["v"], "pressure": fp["p"] - p_bg,
-            "density": fp["rho"], "mass": fp["m"], "id": fp["id"],
-            **({"zone": fp["zone"]} if "zone" in fp else {})},
-            metadata=self._metadata(sim, "fluid"), **self._options(sim))
         forces = getattr(sim, "wall_forces", {})
         for wall in sim.walls:
             series = self._wall_series.get(wall.name)
@@ -119,7 +134,6 @@ class VTK:
             extra = {"wall_force": forces[wall.name]} if wall.name in forces else {}
             series.write(sim.time, pa["x"], data, metadata=self._metadata(sim, f"{getattr(model, 'name', '')} ({type(model).__name__})"),
                          **self._options(sim, extra))
-        self.next_time = next_due(self.next_time, self.every, sim.time)
 
     def last_time(self):
         """Time of the last snapshot written [s], None before the first."""

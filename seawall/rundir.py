@@ -17,7 +17,7 @@ from .io.vtk import _atomic_write
 
 #: the files seawall writes into a run directory (shell patterns)
 SEAWALL_FILES = ("summary.json", "probes.csv", "escaped.csv", "checkpoint.h5", "checkpoint.h5.tmp",
-                 "fluid.pvd", "fluid_*.vtu", "dem.pvd", "dem_*.vtu", "wall_*.pvd", "wall_*.vtu",
+                 "fluid.pvd", "fluid_*.vtu", "fluid_*.pvtu", "dem.pvd", "dem_*.vtu", "wall_*.pvd", "wall_*.vtu",
                  "line_*.csv", "unstable_state.vtu", "snapshot.png", "probes.png")
 
 _PATTERNS = [re.compile("^" + re.escape(p).replace(r"\*", r"[^/]*") + "$") for p in SEAWALL_FILES]

@@ -22,6 +22,9 @@ from .tanks import COMMON, _fluid, _gravity, _hydrostatic, _common, snap
 class PistonDisplacement(probes.Probe):
     """Displacement of the piston along x [m] at the sampling time."""
 
+    #: a function of time alone: every rank of a decomposed run computes the same value
+    mpi_reduction = "global"
+
     def __init__(self, name, displacement):
         super().__init__(name)
         self._displacement = displacement

@@ -1,4 +1,4 @@
-"""ParaView output: VTK XML UnstructuredGrid (.vtu) files and .pvd time series.
+"""ParaView output: VTK XML UnstructuredGrid (.vtu) files, parallel (.pvtu) frames and .pvd time series.
 
 Only numpy and the standard library are used. Every particle is written as
 its own VTK_VERTEX cell, arrays use the inline ``binary`` encoding (base64 of
@@ -9,6 +9,12 @@ blocks, block size, last block size, compressed sizes -- encoded before it,
 ``compressor="vtkZLibDataCompressor"``), and every file is written to a
 temporary file in the target directory and then renamed over the target, so
 readers never see a half-written file.
+
+A frame of a decomposed run is a ``.pvtu`` (VTK's PUnstructuredGrid): the
+declarations of the point arrays and points (``PPointData``, ``PPoints``,
+type and components as in every piece) and one ``<Piece Source="..."/>`` per
+rank, each a ``.vtu`` of its own (:func:`write_pvtu`). :func:`read_vtu` and
+:func:`read_vtu_metadata` read a ``.pvtu`` as the one grid its pieces make.
 
 Metadata: numbers go to the grid's ``FieldData`` (ParaView shows them, and
 reads ``TimeValue`` as the time); text metadata (model, version, the
@@ -29,7 +35,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-__all__ = ["write_vtu", "read_vtu", "read_vtu_metadata", "PVDSeries"]
+__all__ = ["write_vtu", "write_pvtu", "read_vtu", "read_vtu_metadata", "pvtu_pieces", "PVDSeries"]
 
 _VTK_VERTEX = 1
 
@@ -172,6 +178,18 @@ def _as_point_array(name, value, n):
     return arr, ncomp
 
 
+def _prepare(positions, point_data, float32):
+    """Points (N, 3) and [(name, array, components)] as :func:`write_vtu` writes them."""
+    points = _as_points(positions)
+    n = points.shape[0]
+    arrays = [(name, *_as_point_array(name, value, n))
+              for name, value in (point_data or {}).items()]
+    if float32:
+        points = points.astype("<f4")
+        arrays = [(name, arr.astype("<f4") if arr.dtype.kind == "f" else arr, ncomp) for name, arr, ncomp in arrays]
+    return points, arrays
+
+
 def write_vtu(path, positions, point_data=None, *, field_data=None, metadata=None, compress=False,
               float32=False):
     """Write particles as a VTK XML UnstructuredGrid of vertex cells.
@@ -185,19 +203,14 @@ def write_vtu(path, positions, point_data=None, *, field_data=None, metadata=Non
     JSON-able dict stored in an XML comment (see :func:`read_vtu_metadata`).
     ``compress=True``: zlib-compressed arrays. Returns the path written.
     """
-    points = _as_points(positions)
+    points, arrays = _prepare(positions, point_data, float32)
     n = points.shape[0]
-    arrays = [(name, *_as_point_array(name, value, n))
-              for name, value in (point_data or {}).items()]
     fields = []
     for name, value in (field_data or {}).items():
         arr = np.atleast_1d(np.asarray(value, dtype=np.float64))
         if arr.ndim != 1 or not name:
             raise ValueError(f"field data {name!r} must be a number or a 1D array, got shape {arr.shape}")
         fields.append((name, arr))
-    if float32:
-        points = points.astype("<f4")
-        arrays = [(name, arr.astype("<f4") if arr.dtype.kind == "f" else arr, ncomp) for name, arr, ncomp in arrays]
 
     path = os.fspath(path)
     with _atomic_write(path, "w", encoding="ascii", newline="\n") as fh:
@@ -230,6 +243,41 @@ def write_vtu(path, positions, point_data=None, *, field_data=None, metadata=Non
         fh.write('      </Cells>\n'
                  '    </Piece>\n'
                  '  </UnstructuredGrid>\n'
+                 '</VTKFile>\n')
+    return path
+
+
+def write_pvtu(path, sources, positions, point_data=None, *, metadata=None, compress=False, float32=False):
+    """Write a parallel frame: a PUnstructuredGrid (.pvtu) naming the pieces ``sources`` (.vtu files
+    relative to the .pvtu's directory, written by :func:`write_vtu`).
+
+    ``positions`` and ``point_data`` are one piece's arrays (any number of rows, none included): the
+    declarations (name, type, components) are those :func:`write_vtu` gives them with the same
+    ``float32``, so they match every piece written with the same names and dtypes. The pieces carry
+    the FieldData; ``metadata`` is stored in the same XML comment as in a .vtu. Returns the path.
+    """
+    points, arrays = _prepare(positions, point_data, float32)
+    if not sources:
+        raise ValueError("a .pvtu needs at least one piece")
+    path = os.fspath(path)
+    with _atomic_write(path, "w", encoding="ascii", newline="\n") as fh:
+        fh.write('<?xml version="1.0"?>\n')
+        if metadata:
+            fh.write(_metadata_comment(metadata))
+        fh.write('<VTKFile type="PUnstructuredGrid" version="1.0" byte_order="LittleEndian" '
+                 f'header_type="{_HEADER_TYPE}"' + (f' compressor="{_ZLIB}"' if compress else '') + '>\n'
+                 '  <PUnstructuredGrid GhostLevel="0">\n'
+                 '    <PPointData>\n')
+        for name, arr, ncomp in arrays:
+            fh.write(f'      <PDataArray type="{_vtk_type_of(arr.dtype)[0]}" Name={quoteattr(name)} '
+                     f'NumberOfComponents="{ncomp}"/>\n')
+        fh.write('    </PPointData>\n'
+                 '    <PPoints>\n'
+                 f'      <PDataArray type="{_vtk_type_of(points.dtype)[0]}" Name="Points" NumberOfComponents="3"/>\n'
+                 '    </PPoints>\n')
+        for source in sources:
+            fh.write(f'    <Piece Source={quoteattr(os.fspath(source))}/>\n')
+        fh.write('  </PUnstructuredGrid>\n'
                  '</VTKFile>\n')
     return path
 
@@ -312,20 +360,57 @@ def _read_data_array(elem, header_dtype, where, compressed=False):
     return flat.astype(dtype.newbyteorder("="), copy=False), ncomp
 
 
+def _parse(path):
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"VTU file not found: {path}")
+    try:
+        return ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
+
+
+def pvtu_pieces(path):
+    """The pieces' paths of a .pvtu (in the order it lists them) and its declared point arrays,
+    {name: (VTK type, components)}."""
+    path = os.fspath(path)
+    root = _parse(path)
+    if root.tag != "VTKFile" or root.get("type") != "PUnstructuredGrid":
+        raise ValueError(f"{path} is not a VTK XML PUnstructuredGrid file")
+    grid = root.find("./PUnstructuredGrid")
+    sources = [p.get("Source") for p in grid.findall("./Piece")] if grid is not None else []
+    if not sources or any(not s for s in sources):
+        raise ValueError(f"{path}: no pieces (<Piece Source=.../>)")
+    directory = os.path.dirname(path)
+    return [os.path.join(directory, s) for s in sources], {
+        e.get("Name"): (e.get("type"), int(e.get("NumberOfComponents", "1")))
+        for e in grid.findall("./PPointData/PDataArray")}
+
+
+def _read_pvtu(path):
+    pieces, declared = pvtu_pieces(path)
+    parts = [read_vtu(p) for p in pieces]
+    for piece, (_, data) in zip(pieces, parts):      # a piece of another frame or run would not match
+        names = set(data)
+        if names != set(declared):
+            raise ValueError(f"{path}: piece {os.path.basename(piece)} holds arrays {sorted(names)}, "
+                             f"the .pvtu declares {sorted(declared)}")
+    positions = np.concatenate([x for x, _ in parts])
+    return positions, {name: np.concatenate([d[name] for _, d in parts]) for name in declared}
+
+
 def read_vtu(path):
-    """Read a .vtu written by :func:`write_vtu`.
+    """Read a .vtu written by :func:`write_vtu`, or a .pvtu written by :func:`write_pvtu` (its pieces
+    joined in the order it lists them).
 
     Returns ``(positions, point_data)``: positions (N, 3) float64 and a dict
     name -> (N,) for scalars or (N, ncomp) for vectors (2D vectors come back
     with the padded zero z column). Bool arrays come back as uint8.
     """
     path = os.fspath(path)
-    if not os.path.exists(path):
-        raise FileNotFoundError(f"VTU file not found: {path}")
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
+    root = _parse(path)
+    if root.tag == "VTKFile" and root.get("type") == "PUnstructuredGrid":
+        return _read_pvtu(path)
     if root.tag != "VTKFile" or root.get("type") != "UnstructuredGrid":
         raise ValueError(f"{path} is not a VTK XML UnstructuredGrid file")
     compressor = root.get("compressor")
@@ -365,7 +450,8 @@ def read_vtu(path):
 
 def read_vtu_metadata(path):
     """The metadata of a .vtu written by :func:`write_vtu`: the FieldData numbers (name -> float, or a list
-    for several values) and the entries of the ``<!-- seawall {...} -->`` comment; {} if it has neither."""
+    for several values) and the entries of the ``<!-- seawall {...} -->`` comment; {} if it has neither.
+    Of a .pvtu: its comment and the FieldData of its first piece (every piece carries the same)."""
     path = os.fspath(path)
     with open(path, "r", encoding="ascii", errors="replace") as fh:
         head = fh.read(4096)
@@ -380,6 +466,10 @@ def read_vtu_metadata(path):
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:
         raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
+    if root.get("type") == "PUnstructuredGrid":
+        fields = read_vtu_metadata(pvtu_pieces(path)[0][0])
+        fields.pop("piece", None)          # the first piece's number, not the frame's
+        return {**fields, **out}
     for elem in root.findall("./UnstructuredGrid/FieldData/DataArray"):
         values = [float(v) for v in (elem.text or "").split()]
         out[elem.get("Name")] = values[0] if len(values) == 1 else values
@@ -399,6 +489,7 @@ class PVDSeries:
     and numbering continues after the last kept entry (the .vtu files of
     dropped entries are overwritten as the run catches up). Without
     ``resume`` any previous collection of that name is replaced by an empty one.
+    ``add`` lists a frame the caller wrote (a decomposed run's ``{name}_{k:05d}.pvtu``).
     """
 
     def __init__(self, directory, name, *, resume=False, resume_after=None):
@@ -436,8 +527,22 @@ class PVDSeries:
         self._write_pvd()
         return path
 
+    @property
+    def next_index(self):
+        """The number the next frame's file takes (``{name}_{k:05d}``)."""
+        return self._next_index
+
+    def add(self, time, filename):
+        """List a frame written by the caller (a .pvtu and its pieces) at ``time``; it takes the next number."""
+        time = float(time)
+        if not math.isfinite(time):
+            raise ValueError(f"snapshot time must be finite, got {time!r}")
+        self._entries.append((time, os.fspath(filename)))
+        self._next_index += 1
+        self._write_pvd()
+
     def _index_after(self, entries):
-        pattern = re.compile(re.escape(self.name) + r"_(\d+)\.vtu$")
+        pattern = re.compile(re.escape(self.name) + r"_(\d+)\.p?vtu$")
         indices = [int(m.group(1)) for _, f in entries if (m := pattern.match(f))]
         return max(indices) + 1 if indices else len(entries)
 

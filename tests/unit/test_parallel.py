@@ -65,10 +65,12 @@ def test_couplings_and_unverified_models_are_refused_by_name():
     class Anchor(Coupling):
         name = "anchor"
 
-    lust = case_by_name("dam-break").build(boundary="lust", H=0.1, dx=0.01)
-    assert refusal(lust).startswith("MPI: wall tank (lust): its 2-rank run differed")
-    other = case_by_name("dam-break").build(boundary="liu2012", H=0.1, dx=0.01)
-    assert refusal(other).startswith("MPI: wall tank (liu2012): this wall model has not been compared")
+    other = case_by_name("dam-break").build(boundary="adami", H=0.1, dx=0.01)
+    other.walls[0].model.name = "my-model"          # a model of one's own, never compared on several ranks
+    assert refusal(other).startswith("MPI: wall tank (my-model): this wall model has not been compared")
+
+    # prescribed motion is a function of time, replicated on every rank: decomposed (docs/parallel.md)
+    assert refusal(case_by_name("moving-wall").build(boundary="adami", dx=0.05)) is None
 
     sim.couplings.append(Anchor())
     assert refusal(sim) == ("MPI: coupling anchor (Anchor) acts on the whole fluid and is not decomposed; "
@@ -151,6 +153,67 @@ def test_two_ranks_give_the_serial_probes(runs):
     assert s2["mass_drift"] == pytest.approx(s1["mass_drift"], abs=1e-14)
 
 
+def _frames(out):
+    from seawall.plots import _series
+
+    return _series(out)
+
+
+@needs_mpi
+def test_two_ranks_write_pvtu_frames_that_read_as_the_serial_frames(runs, tmp_path):
+    """Each rank writes its piece; the .pvtu frames, read by seawall's readers, are the serial frames."""
+    from seawall.io.vtk import pvtu_pieces, read_vtu, read_vtu_metadata
+    from seawall.postprocess import sample_series
+
+    serial, split = _frames(runs[1]), _frames(runs[2])
+    assert len(split) == len(serial) >= 3
+    assert all(path.endswith(".pvtu") for _, path in split) and all(path.endswith(".vtu") for _, path in serial)
+    for (t1, p1), (t2, p2) in zip(serial, split):
+        assert t2 == pytest.approx(t1, rel=1e-12)
+        assert len(pvtu_pieces(p2)[0]) == 2
+        x1, d1 = read_vtu(p1)
+        x2, d2 = read_vtu(p2)
+        o1, o2 = np.argsort(d1["id"]), np.argsort(d2["id"])
+        assert np.array_equal(d1["id"][o1], d2["id"][o2])          # the same particles, each once
+        assert set(d1) == set(d2)
+        for name, a, b in [("x", x1, x2), *((k, d1[k], d2[k]) for k in d1)]:
+            scale = max(float(np.abs(a).max()), 1e-300)
+            assert np.max(np.abs(a[o1] - b[o2])) / scale < 1e-11, name
+        m1, m2 = read_vtu_metadata(p1), read_vtu_metadata(p2)
+        assert m2["pieces"] == 2 and m2["h"] == m1["h"] and m2["TimeValue"] == pytest.approx(m1["TimeValue"])
+    # what `seawall sample` reads, the same from either run
+    points = np.array([[0.05, 0.02], [0.2, 0.01], [0.5, 0.005]])
+    tt1, s1 = sample_series(runs[1], points, ("pressure", "u", "v"))
+    tt2, s2 = sample_series(runs[2], points, ("pressure", "u", "v"))
+    np.testing.assert_allclose(tt2, tt1, rtol=1e-12)
+    for q in s1:
+        assert np.nanmax(np.abs(s2[q] - s1[q])) <= 1e-11 * np.nanmax(np.abs(s1[q]))
+    meshio = pytest.importorskip("meshio")     # does not read .pvtu (5.3); each piece is a plain .vtu
+    piece = meshio.read(pvtu_pieces(split[-1][1])[0][1])
+    assert set(piece.point_data) == set(d2) and len(piece.points) < len(x2)
+
+
+@needs_mpi
+def test_vtk_reads_the_pvtu_frames(runs):
+    """VTK's own parallel reader (ParaView's) takes the frame: every particle once, the declared arrays."""
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    from seawall.io.vtk import read_vtu
+
+    path = _frames(runs[2])[-1][1]
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    x, data = read_vtu(path)
+    assert grid.GetNumberOfPoints() == grid.GetNumberOfCells() == len(x)
+    points = grid.GetPointData()
+    assert {points.GetArrayName(k) for k in range(points.GetNumberOfArrays())} == set(data)
+    assert np.array_equal(np.sort(vtk_to_numpy(points.GetArray("id"))), np.sort(data["id"]))
+    assert grid.GetFieldData().GetArray("TimeValue") is not None
+
+
 @needs_mpi
 def test_checkpoint_of_two_ranks_restarts_in_one_process(runs, tmp_path):
     """One checkpoint for the whole run, independent of the rank count: a serial restart continues it."""
@@ -166,6 +229,16 @@ def test_checkpoint_of_two_ranks_restarts_in_one_process(runs, tmp_path):
     # the rows before the checkpoint's time are the 2-rank run's own
     kept, serial = p[:p1.shape[0] - 1], p1[:-1]
     assert np.max(np.abs(kept - serial) / np.maximum(np.abs(serial).max(axis=0), 1e-300)) < 1e-11
+    # the series goes on: the 2-rank .pvtu frames up to the checkpoint, then the serial .vtu frames
+    from seawall.io.vtk import read_vtu
+    from seawall.plots import snapshot
+
+    frames = _frames(out)
+    kinds = [os.path.splitext(path)[1] for _, path in frames]
+    assert kinds[0] == ".pvtu" and kinds[-1] == ".vtu" and kinds == sorted(kinds, key=lambda k: k == ".vtu")
+    assert all(read_vtu(path)[0].shape[0] == s["n_fluid"] for _, path in frames)
+    snapshot(out, str(tmp_path / "snap.png"), time=0.02)       # `seawall plot` of a .pvtu frame
+    assert os.path.getsize(tmp_path / "snap.png") > 0
 
 
 @needs_mpi

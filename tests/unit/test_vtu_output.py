@@ -1,4 +1,5 @@
-"""VTU output: zlib compression, float32, metadata and FieldData; plot colour range, probe units, --out."""
+"""VTU output: zlib compression, float32, metadata and FieldData, parallel frames (.pvtu); plot colour range,
+probe units, --out."""
 
 import json
 import os
@@ -8,7 +9,7 @@ import pytest
 
 from seawall.cli import main
 from seawall.io import PVDSeries, read_vtu, write_probes_csv, write_vtu
-from seawall.io.vtk import read_vtu_metadata
+from seawall.io.vtk import read_vtu_metadata, write_pvtu
 
 
 def _data(n, seed=0):
@@ -68,6 +69,43 @@ def test_metadata_and_field_data_round_trip(tmp_path):
     assert meta["TimeValue"] == 0.25 and meta["wall_force"] == [1.5, -2.0]
     read_vtu(path)      # still a valid VTK XML file (the comment holds no '--')
     assert read_vtu_metadata(write_vtu(tmp_path / "n.vtu", x, data)) == {}
+
+
+def test_a_pvtu_frame_reads_as_its_pieces_joined(tmp_path):
+    x, data = _data(30)
+    fields = {"TimeValue": 0.5, "h": 0.01}
+    cut = [slice(0, 12), slice(12, 12), slice(12, 30)]          # the middle piece holds no particle
+    names = [f"f_00003_p{r}.vtu" for r in range(3)]
+    for name, part in zip(names, cut):
+        write_vtu(tmp_path / name, x[part], {k: v[part] for k, v in data.items()}, field_data=fields,
+                  metadata={"case": "c", "piece": 1}, compress=True, float32=True)
+    path = write_pvtu(tmp_path / "f_00003.pvtu", names, x[:0], {k: v[:0] for k, v in data.items()},
+                      metadata={"case": "c"}, compress=True, float32=True)
+    text = open(path).read()
+    assert '<PDataArray type="Float32" Name="velocity" NumberOfComponents="3"/>' in text
+    assert '<PDataArray type="Int64" Name="id" NumberOfComponents="1"/>' in text
+    assert '<PDataArray type="UInt8" Name="flag" NumberOfComponents="1"/>' in text
+    assert '<PDataArray type="Float32" Name="Points" NumberOfComponents="3"/>' in text
+    assert text.count("<Piece Source=") == 3
+    pos, back = read_vtu(path)
+    np.testing.assert_array_equal(back["id"], data["id"])
+    np.testing.assert_allclose(pos[:, :2], x, rtol=2 ** -23)
+    np.testing.assert_allclose(back["velocity"][:, :2], data["velocity"], rtol=2 ** -23)
+    assert read_vtu_metadata(path) == {"case": "c", **fields}
+    # a piece that does not hold what the frame declares is named
+    write_vtu(tmp_path / names[1], x[:2], {"id": data["id"][:2]})
+    with pytest.raises(ValueError, match="f_00003_p1.vtu holds arrays"):
+        read_vtu(path)
+
+
+def test_a_series_lists_pvtu_frames_and_resumes_after_them(tmp_path):
+    series = PVDSeries(tmp_path, "fluid")
+    assert series.next_index == 0
+    series.add(0.0, "fluid_00000.pvtu")
+    series.add(0.1, "fluid_00001.pvtu")
+    again = PVDSeries(tmp_path, "fluid", resume=True, resume_after=0.05)
+    assert again.files == [(0.0, "fluid_00000.pvtu")] and again.next_index == 1
+    assert again.write(0.1, *_data(3)).endswith("fluid_00001.vtu")   # a serial restart goes on in .vtu
 
 
 def test_colour_range_is_robust_unless_given():
