@@ -14,7 +14,8 @@
 * :func:`elliptical_drop` -- Monaghan (1994, J. Comput. Phys. 110, sec. 5): an inviscid patch with
   u = -A x, v = A y stays an ellipse x = a cos t, y = sin t / a, with
       dA/dt = A^2 (a^4 - 1) / (a^4 + 1),  da/dt = -a A;
-  integrated here with classical RK4 (no scipy dependency).
+  integrated here with classical RK4 (no scipy dependency). :func:`elliptical_drop_pressure`:
+  its pressure, p = rho a^2 (A^2 - dA/dt) (1 - x^2/a^2 - a^2 y^2) / 2 (zero on the surface).
 """
 
 import math
@@ -53,6 +54,18 @@ def taylor_green_2d(x, y, t, *, U=1.0, Re=100.0, rho=1.0):
     v = U * e * np.sin(2 * math.pi * x) * np.cos(2 * math.pi * y)
     p = -0.25 * rho * U * U * e * e * (np.cos(4 * math.pi * x) + np.cos(4 * math.pi * y))
     return u, v, p
+
+
+def elliptical_drop_pressure(x, y, *, A, a, dAdt, rho=1.0):
+    """Pressure of Monaghan's elliptical drop, p = P (1 - x^2/a^2 - a^2 y^2), P = rho a^2 (A^2 - dA/dt) / 2 [Pa].
+
+    [Monaghan1994] sec. 5: the velocity u = -A x, v = A y with semi-axes a (x) and 1/a (y)
+    satisfies the Euler equations when p is zero on the ellipse and quadratic inside;
+    the x-momentum equation, -(1/rho) dp/dx = (A^2 - dA/dt) x, fixes P. At t = 0
+    (a = 1, dA/dt = 0): p = rho A0^2 (1 - x^2 - y^2) / 2.
+    """
+    P = 0.5 * rho * a * a * (A * A - dAdt)
+    return P * (1.0 - (x / a) ** 2 - (a * y) ** 2)
 
 
 def elliptical_drop(t, *, A0=100.0, steps_per_unit=200_000):
