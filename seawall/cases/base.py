@@ -172,14 +172,32 @@ REGULARISATION_KEYS = ("shifting", "transport_velocity", "tvf_background", "tvf_
 PRESSURE_KEYS = ("pressure_model", "edac_alpha")
 
 
+def _no_fluid(case, sim, setter, given):
+    """True when ``sim`` has no SPH fluid (no ``setter``); a fluid key given to such a case stops in one line."""
+    if hasattr(sim, setter):
+        return False
+    if given:
+        raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
+    return True
+
+
+def _finite_option(opts, key, default, positive):
+    """``opts[key]`` (else ``default``) as a finite float, > 0 if ``positive`` else >= 0; one line otherwise."""
+    try:
+        value = float(opts.get(key, default))
+    except (TypeError, ValueError):
+        raise ParameterError(f"{key} must be a number, got {opts[key]!r}") from None
+    if not (math.isfinite(value) and (value > 0.0 if positive else value >= 0.0)):
+        raise ParameterError(f"{key} must be a finite number {'>' if positive else '>='} 0, got {opts[key]!r}")
+    return value
+
+
 def _case_pressure(case, sim, given):
     """Apply the case's default pressure model overridden by ``given`` (--set keys) to ``sim``; return the
     resolved keys (for the parameters in summary.json and checkpoints), or None for a run without a fluid."""
     from ..fluid.edac import EDAC, PRESSURE_MODELS
 
-    if not hasattr(sim, "set_pressure_model"):
-        if given:
-            raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
+    if _no_fluid(case, sim, "set_pressure_model", given):
         return None
     opts = {**case.pressure, **given}
     name = str(opts.get("pressure_model", "eos")).strip().lower()
@@ -192,12 +210,7 @@ def _case_pressure(case, sim, given):
         if sim.fluid.edac is not None:     # a builder that chose EDAC itself
             return {"pressure_model": "edac", "edac_alpha": sim.fluid.edac.alpha}
         return {"pressure_model": "eos", "edac_alpha": None}
-    try:
-        alpha = float(opts.get("edac_alpha", 0.5))
-    except (TypeError, ValueError):
-        raise ParameterError(f"edac_alpha must be a number, got {opts['edac_alpha']!r}") from None
-    if not (math.isfinite(alpha) and alpha > 0.0):
-        raise ParameterError(f"edac_alpha must be a finite number > 0, got {opts['edac_alpha']!r}")
+    alpha = _finite_option(opts, "edac_alpha", 0.5, positive=True)
     sim.set_pressure_model(EDAC(alpha=alpha))
     return {"pressure_model": "edac", "edac_alpha": alpha}
 
@@ -216,9 +229,7 @@ def _case_regularisation(case, sim, given):
     resolved keys (for the parameters in summary.json and checkpoints), or None for a run without a fluid."""
     from ..fluid.regularisation import ParticleShifting, SHIFTING_KINDS, TransportVelocity
 
-    if not hasattr(sim, "set_regularisation"):
-        if given:
-            raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
+    if _no_fluid(case, sim, "set_regularisation", given):
         return None
     opts = {**case.regularisation, **given}
     fluid = sim.fluid
@@ -232,12 +243,7 @@ def _case_regularisation(case, sim, given):
     if shifting not in SHIFTING_KINDS:
         raise ParameterError(f"shifting must be one of {', '.join(SHIFTING_KINDS)}; got {opts['shifting']!r}")
     tvf = _bool_option("transport_velocity", opts.get("transport_velocity", False))
-    try:
-        factor = float(opts.get("tvf_background", 1.0))
-    except (TypeError, ValueError):
-        raise ParameterError(f"tvf_background must be a number, got {opts['tvf_background']!r}") from None
-    if not (math.isfinite(factor) and factor >= 0.0):
-        raise ParameterError(f"tvf_background must be a finite number >= 0, got {opts['tvf_background']!r}")
+    factor = _finite_option(opts, "tvf_background", 1.0, positive=False)
     tvf_surface = _bool_option("tvf_free_surface", opts.get("tvf_free_surface", False))
     if not tvf and ("tvf_background" in given or "tvf_free_surface" in given):
         raise ParameterError(f"{'tvf_background' if 'tvf_background' in given else 'tvf_free_surface'} needs "
