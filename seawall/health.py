@@ -57,7 +57,6 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .blocks import block_bounds, block_count
 from .diagnostics import REASONS, nearest_wall_particle
 from .errors import ParameterError, require_positive
 
@@ -180,21 +179,9 @@ def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, r
     axis >= 0) whose cell is marked in ``deep_cells`` (:func:`cells_maybe_deep`: elsewhere no
     distance can fall below the guard's depth, so the search is skipped). The distance is
     :func:`seawall.diagnostics.signed_wall_distance`'s; one parallel pass without temporary arrays
-    (the masks and copies it replaced took ~1 ms a step at 80k). Blocks of particles per call, as in
-    seawall.blocks."""
-    n = x.shape[0]
-    for blk in prange(block_count(n)):
-        first, last = block_bounds(blk, n)
-        deepest_wall_distance_block(first, last, x, codes, axis, up, level, xw, nw, sw, start, order, reach,
-                                    deep_cells, lo, inv_cell, ncell, radius2, deepest)
-
-
-@njit(cache=True)
-def deepest_wall_distance_block(first, last, x, codes, axis, up, level, xw, nw, sw, start, order, reach, deep_cells,
-                                lo, inv_cell, ncell, radius2, deepest):
-    """:func:`deepest_wall_distance` of the particles ``first`` to ``last - 1`` (serial)."""
+    (the masks and copies it replaced took ~1 ms a step at 80k)."""
     dim = x.shape[1]
-    for i in range(first, last):
+    for i in prange(x.shape[0]):
         c = codes[i]
         if c != KEEP and c != _DENSITY:
             continue

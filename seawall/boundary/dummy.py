@@ -40,7 +40,6 @@ viscosity -- the equivalence given in [TrixiBoundary]).
 import numpy as np
 from numba import njit, prange
 
-from ..blocks import block_bounds, block_count
 from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..kernels import kernel_gradient_factor, kernel_shape
@@ -66,21 +65,11 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
     In the 3D dam break most of the 76k wall particles are such.
     """
     nw = xw.shape[0]
-    for blk in prange(block_count(nw)):
-        first, last = block_bounds(blk, nw)
-        adami_wall_state_block(first, last, layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, lo, inv_cell,
-                               ncell, period, prm, noslip, clip_negative, pw, rhow, vw_visc)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def adami_wall_state_block(first, last, layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, lo, inv_cell,
-                           ncell, period, prm, noslip, clip_negative, pw, rhow, vw_visc):
-    """:func:`adami_wall_state` of the wall particles ``first`` to ``last - 1`` (serial; seawall.blocks)."""
     inv_h = 1.0 / prm.h
-    dim = tag_dim(layout)   # constants of this (serial) function's types
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
-    for b in range(first, last):
+    for b in prange(nw):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         ab0, ab1, ab2 = point_of(aw, b, dim)
@@ -221,15 +210,6 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
 
     ``cells`` is the wall's CellView with its reach mask: fluid particles in other cells are skipped.
     """
-    nf = fluid.x.shape[0]
-    for blk in prange(block_count(nf)):
-        first, last = block_bounds(blk, nf)
-        dummy_wall_forces_block(first, last, fluid, wall, cells, prm, mirror, wall_nu, rates)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def dummy_wall_forces_block(first, last, fluid, wall, cells, prm, mirror, wall_nu, rates):
-    """:func:`dummy_wall_forces` of the fluid particles ``first`` to ``last - 1`` (serial; seawall.blocks)."""
     layout = cells.layout
     xf = fluid.x
     vf = fluid.v
@@ -253,15 +233,16 @@ def dummy_wall_forces_block(first, last, fluid, wall, cells, prm, mirror, wall_n
     period = cells.period
     dv = rates.dv
     drho = rates.drho
+    nf = xf.shape[0]
     inv_h = 1.0 / prm.h
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     riemann = prm.riemann != 0
     rho0c0 = prm.rho0 * prm.c0
-    dim = tag_dim(layout)   # constants of this (serial) function's types
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
-    for i in range(first, last):
+    for i in prange(nf):
+        dim = tag_dim(layout)   # inside the parallel body, where it is a constant
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:

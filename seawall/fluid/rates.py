@@ -42,7 +42,6 @@ from ..pairs import (continuity, density_diffusion, edac_diffusion, edac_diverge
                      laminar_viscosity,
                      monaghan_viscosity, pressure_acceleration, riemann_continuity, riemann_fluid_jump,
                      riemann_momentum_coefficient, riemann_pressure, tensile_coefficient, tensile_term, viscosity_acts, xsph_weight)
-from ..blocks import block_bounds, block_count
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
@@ -211,17 +210,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
     ``prm.alpha_all_pairs`` applies the artificial viscosity to receding pairs too. ``scheme`` is
     :func:`scheme_tag` of ``prm``: which terms exist is fixed at compile time. With EDAC
     (``prm.edac``) ``dp`` receives the fluid pairs' dp/dt of [Ramachandran2019] (else it is not touched).
-    The work is done by :func:`fluid_rates_block`, one block of particles per call (seawall.blocks).
     """
-    n = fluid.x.shape[0]
-    for b in prange(block_count(n)):
-        first, last = block_bounds(b, n)
-        fluid_rates_block(first, last, fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def fluid_rates_block(first, last, fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
-    """:func:`fluid_rates` of the particles ``first`` to ``last - 1`` (serial; seawall.blocks)."""
     layout = cells.layout
     x = fluid.x
     v = fluid.v
@@ -241,6 +230,7 @@ def fluid_rates_block(first, last, fluid, cells, grad_rho, prm, rates, grad_rho_
     drho = rates.drho
     xsph = rates.xsph
     mu_max = rates.mu_max
+    n = x.shape[0]
     h = prm.h
     inv_h = 1.0 / h
     gradient_scale = prm.sigma * inv_h * inv_h
@@ -252,22 +242,23 @@ def fluid_rates_block(first, last, fluid, cells, grad_rho, prm, rates, grad_rho_
     rho0c0 = prm.rho0 * prm.c0
     c2 = prm.c0 * prm.c0
     nu_edac = prm.edac_nu
-    # the switches are constants of this (serial) function's types: their branches fold away
-    kernel = tag_value(scheme[0])
-    riemann = tag_value(scheme[1]) != 0
-    tensile = tag_value(scheme[2]) != 0
-    laminar = tag_value(scheme[3]) != 0
-    diffusion = tag_value(scheme[4])
-    lagged = tag_value(scheme[5]) != 0
-    use_xsph = tag_value(scheme[6]) != 0
-    artificial = tag_value(scheme[7]) != 0
-    all_pairs = tag_value(scheme[8])
-    edac = tag_value(scheme[9]) != 0
-    renorm = diffusion == DIFFUSION_RENORMALISED
-    dim = tag_dim(layout)
-    periodic = tag_periodic(layout)
-    nrows = 25 if dim == 3 else 5
-    for i in range(first, last):
+    for i in prange(n):
+        # read inside the parallel body: values computed outside it reach the outlined loop as
+        # run-time arguments, and their branches would not fold
+        kernel = tag_value(scheme[0])
+        riemann = tag_value(scheme[1]) != 0
+        tensile = tag_value(scheme[2]) != 0
+        laminar = tag_value(scheme[3]) != 0
+        diffusion = tag_value(scheme[4])
+        lagged = tag_value(scheme[5]) != 0
+        use_xsph = tag_value(scheme[6]) != 0
+        artificial = tag_value(scheme[7]) != 0
+        all_pairs = tag_value(scheme[8])
+        edac = tag_value(scheme[9]) != 0
+        renorm = diffusion == DIFFUSION_RENORMALISED
+        dim = tag_dim(layout)   # likewise: computed outside, dim and periodicity would not fold
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         vi0, vi1, vi2 = point_of(v, i, dim)
