@@ -8,6 +8,9 @@ escaped records (ids and reasons).
     python benchmarks/mpi_agreement.py                                  # adami dam break, 1/2/4 ranks
     python benchmarks/mpi_agreement.py --boundary dbc --ranks 1 2
     python benchmarks/mpi_agreement.py --set H=0.1 --dx 0.005 --t-end 0.3 --json out.json
+    python benchmarks/mpi_agreement.py --ranks 1 2 --set H=0.1 --set shifting=lind2012
+    python benchmarks/mpi_agreement.py --case cavity --boundary adami-noslip --ranks 1 2 --dx 5e-5 \
+        --t-end 2 --set reynolds=100 --set transport_velocity=true
 """
 
 import argparse

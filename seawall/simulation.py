@@ -371,17 +371,22 @@ class Simulation(Runner):
         grad C and lambda, with the free-surface correction."""
         fp = self.fluid.particles
         shifting = self.fluid.shifting
-        if fp.n == 0:
-            return
         if shifting.kind == "sun2017":
             # CFL Ma (2h)^2 with CFL = c0 dt / h and Ma = U / c0: coefficient * h * U * dt, U = max |v|
-            scale = -shifting.coefficient * self.h * max_speed(fp["v"]) * dt
+            # (taken before the empty-fluid return: in a decomposed run every rank joins the reduction)
+            scale = -shifting.coefficient * self.h * self._largest_speed() * dt
         else:
             scale = -shifting.coefficient * self.h * self.h
+        if fp.n == 0:
+            return
         shift = self._scratch_vectors("_shift")
         corrected_vectors(fp["grad_c"], fp["grad_c"], fp["lambda"], scale, shifting.lambda_surface,
                           shifting.free_surface, shift)
         fp["x"] += shift
+
+    def _largest_speed(self):
+        """U = max |v| over the fluid, the Ma of [Sun2017]'s shift (a decomposed run reduces it over ranks)."""
+        return max_speed(self.fluid.particles["v"])
 
     def couple(self, *couplings):
         """Add :class:`~seawall.coupling.Coupling` objects to a built simulation (before it runs)."""

@@ -45,6 +45,7 @@ import numpy as np
 
 from ..diagnostics import record_reason
 from ..errors import InstabilityError, ParameterError
+from ..fluid.regularisation import max_speed
 from ..health import DAMAGE, KEEP, reason_name
 from ..output import VTK
 from ..particles import ParticleArrays
@@ -78,6 +79,7 @@ def _probe_reduction(probe):
     computes the same value) or None. A probe class may declare its own (``mpi_reduction``)."""
     from ..compare import MinWallDistance
     from ..probes import KineticEnergy, PressureSensor, SurgeFront, TotalMass, WallForce, WallPressure, Pressure
+    from ..sampling import FieldProbe
 
     declared = getattr(probe, "mpi_reduction", None)
     if declared is not None:
@@ -90,7 +92,7 @@ def _probe_reduction(probe):
         return "min"
     if isinstance(probe, WallForce):
         return "global"      # the wall forces are summed over ranks in every evaluation
-    if isinstance(probe, (WallPressure, Pressure, PressureSensor)):
+    if isinstance(probe, (WallPressure, Pressure, PressureSensor, FieldProbe)):
         return "point"
     return None
 
@@ -109,8 +111,6 @@ def refusal(sim):
         if name not in VERIFIED_MODELS and not os.environ.get(COMPARE_ANY_MODEL):
             return (f"MPI: wall {w.name} ({name}): this wall model has not been compared with one process on "
                     f"several ranks (verified: {', '.join(VERIFIED_MODELS)}); run it in one process")
-    if sim.fluid.shifting is not None or sim.fluid.transport_velocity is not None:
-        return "MPI: particle shifting / the transport velocity is not decomposed; run it in one process"
     if slabs.longest_axis(sim.grid.lo[:sim.dim], sim.grid.hi[:sim.dim], sim.grid.periodic) is None:
         return "MPI: every axis is periodic, no axis to cut; run it in one process"
     bad = [p.name for p in sim.probes if _probe_reduction(p) is None]
@@ -139,6 +139,9 @@ def _mirror_reach(sim):
 
 def halo_depth(sim):
     """Kernel supports of fluid an owned particle's rates depend on (see the module docstring)."""
+    # particle shifting and the transport velocity add nothing: grad C, B and a_b are sums over the
+    # neighbours' positions and volumes (depth 1, 2 with summation density), and the transport stress
+    # reads a neighbour's v~ - v, itself such a sum (depth 2, 3 with summation density)
     depth = 2.0                                  # fluid pair terms + the wall particles' update
     if sim.fluid.density_mode == "summation":
         depth += 1.0                             # the neighbours' densities are themselves sums
@@ -459,6 +462,13 @@ class DistributedSimulation:
         with self._owned_view() as view:
             dt = self.integrator.time_step(SimpleNamespace(particles=view), self.physics) if view.n else math.inf
         return self._allreduce(dt, "min")
+
+    def _largest_speed(self):
+        # max |v| over the owned rows of every rank: the halo rows, advanced with discarded rates, are not the
+        # fluid's ([Sun2017]'s Ma of the shift, as one process takes it)
+        n = self._owned_rows()
+        local = max_speed(self.fluid.particles["v"][:n]) if n else 0.0
+        return self._allreduce(float(local), "max")
 
     def particles_per_step(self):
         return self._owned_rows() + (sum(w.n for w in self.walls) if self.rank == 0 else 0)

@@ -77,6 +77,30 @@ def test_couplings_and_unverified_models_are_refused_by_name():
                             "run it in one process")
 
 
+def test_shifting_and_the_transport_velocity_are_decomposed():
+    from seawall.cases import case_by_name
+
+    for setting in ({"shifting": "sun2017"}, {"shifting": "lind2012"}, {"transport_velocity": True}):
+        sim = case_by_name("dam-break").build(boundary="adami", H=0.1, dx=0.01)
+        sim.set_regularisation(**setting)
+        assert refusal(sim) is None, setting
+    # the cavity's centre probe interpolates at a point: sampled by the rank whose slab holds it
+    cavity = case_by_name("cavity").build(boundary="adami-noslip", dx=1e-4)
+    cavity.set_regularisation(transport_velocity=True)
+    assert refusal(cavity) is None
+
+
+def test_the_shift_speed_is_the_largest_of_the_owned_rows_over_ranks():
+    from types import SimpleNamespace
+
+    from seawall.parallel.distributed import DistributedSimulation
+
+    # [Sun2017]'s shift scales with max |v|; a halo row (the last, advanced with discarded rates) must not count
+    rank = SimpleNamespace(fluid=SimpleNamespace(particles={"v": np.array([[1.0, 0.0], [0.0, -2.0], [30.0, 0.0]])}),
+                           _owned_rows=lambda: 2, _allreduce=lambda value, op: (value, op))
+    assert DistributedSimulation._largest_speed(rank) == (2.0, "max")
+
+
 # ---------------------------------------------------------------------------- 2 ranks against 1 process
 def _mpiexec():
     """mpiexec on PATH, else the one MPICH's wheel installed beside this Python."""
