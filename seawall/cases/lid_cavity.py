@@ -10,7 +10,10 @@ Two fluids (parameter ``fluid``):
 
 * ``standard`` (default): laminar viscosity (Morris et al. 1997, [Liu2015]
   eq. 9), linear EOS, delta-SPH (delta = 0.1), no artificial viscosity,
-  symplectic integrator, no gravity;
+  symplectic integrator, no gravity; ``density=summation`` sums the density
+  over fluid and wall particles instead of evolving it (then no delta-SPH) and
+  ``kernel`` chooses the kernel: [Adami2013] run the cavity with the
+  transport velocity, a summed density and the quintic spline at h = dx;
 * ``liu2015``: the seed's own fluid of sec. 2 (Tait EOS, laminar plus
   artificial viscosity alpha = 0.02, delta-SPH with the Bonet-Lok gradient,
   leap-frog with the dt rule of eq. 18-20; :func:`seawall.fluid.presets.liu2015`),
