@@ -10,7 +10,10 @@ Two fluids (parameter ``fluid``):
 
 * ``standard`` (default): laminar viscosity (Morris et al. 1997, [Liu2015]
   eq. 9), linear EOS, delta-SPH (delta = 0.1), no artificial viscosity,
-  symplectic integrator, no gravity;
+  symplectic integrator, no gravity; ``density=summation`` sums the density
+  over fluid and wall particles instead of evolving it (then no delta-SPH) and
+  ``kernel`` chooses the kernel: [Adami2013] run the cavity with the
+  transport velocity, a summed density and the quintic spline at h = dx;
 * ``liu2015``: the seed's own fluid of sec. 2 (Tait EOS, laminar plus
   artificial viscosity alpha = 0.02, delta-SPH with the Bonet-Lok gradient,
   leap-frog with the dt rule of eq. 18-20; :func:`seawall.fluid.presets.liu2015`),
@@ -40,13 +43,14 @@ from ..errors import ParameterError, require_positive
 from ..fluid import DeltaSPH, FluidSystem, LaminarViscosity
 from ..fluid.presets import liu2015
 from ..integrators import Symplectic
-from ..kernels import CubicSpline
+from ..kernels import KERNELS, kernel_by_name
 from ..sampling import FieldProbe, interpolate
 from ..simulation import Simulation
 from .base import Case, Parameter, wall_layers
 
 
 FLUIDS = ("standard", "liu2015")
+DENSITY_MODES = ("continuity", "summation")
 
 
 def build_cavity(params, wall_model, threads):
@@ -72,15 +76,26 @@ def build_cavity(params, wall_model, threads):
         params["background"] = 0.05 if kind == "standard" else 0.0
     background = params["background"] * rho0 * c0 * c0
     block = shapes.rectangle((0.0, 0.0), (side, side), dx)
+    density = params["density"]
+    if density not in DENSITY_MODES:
+        raise ParameterError(f"density must be one of {', '.join(DENSITY_MODES)}, got {density!r}")
+    if params["delta"] is None:
+        # delta-SPH diffuses an evolved density; a summed one has nothing to diffuse
+        params["delta"] = 0.1 if density == "continuity" else 0.0
     if kind == "standard":
         if params["dt"]:
             raise ParameterError("dt fixes the step of the liu2015 fluid; the standard fluid takes cfl")
-        kernel = CubicSpline()
+        if density == "summation" and params["delta"] > 0:
+            raise ParameterError("delta: delta-SPH needs density=continuity (a summed density is not evolved)")
+        kernel = kernel_by_name(params["kernel"])
         fluid = FluidSystem(block, rho0=rho0, eos=Linear(c0=c0, background_pressure=background),
-                            viscosity=LaminarViscosity(nu=nu),
+                            viscosity=LaminarViscosity(nu=nu), density=density,
                             density_diffusion=DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)
         integrator = Symplectic(cfl=params["cfl"])
     else:
+        if params["kernel"] != "cubic" or density != "continuity":
+            raise ParameterError(f"{'kernel' if params['kernel'] != 'cubic' else 'density'}: the liu2015 fluid "
+                                 f"keeps its own kernel and continuity density ([Liu2015] sec. 2)")
         preset = liu2015(c0, alpha=params["alpha"], delta=params["delta"], nu=nu, h_factor=h_factor,
                          background_pressure=background, dt=params["dt"])
         kernel = preset.kernel
@@ -135,9 +150,12 @@ CAVITY = Case(
     default_boundary="adami-noslip",
     description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 ([Liu2015] sec. 4.2; --set reynolds=100/1000 for "
                 "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default; "
-                "no particle shifting by default (measured at Re = 100: sun2017 moves the centreline errors by about "
-                "1 % of U, lind2012 makes them worse, docs/validation-notes.md; --set shifting=sun2017 or "
-                "transport_velocity=true to use it)",
+                "no regularisation by default (measured at Re = 100, docs/validation-notes.md: sun2017 shifting moves "
+                "the centreline errors by about 1 % of U, lind2012 makes them worse, the transport velocity alone "
+                "changes nothing; [Adami2013]'s scheme, --set transport_velocity=true density=summation background=0, "
+                "brings them to 2-5 % of U between t = 5 and 30 s (entry cavity-re100-tvf passes with 2.6 %; a second "
+                "run ended at 5.2 %), not yet the default; with the seed's fluid at Re = 1 "
+                "transport_velocity=true keeps them within 2 % at t = 0.5 s)",
     builder=build_cavity,
     parameters={
         "dx": Parameter(None, "particle spacing [m] (default side/50, the seed's 2e-5 m)"),
@@ -150,7 +168,12 @@ CAVITY = Case(
         "fluid": Parameter("standard", "fluid scheme: standard (linear EOS, symplectic) or liu2015 ([Liu2015] sec. 2)",
                            str),
         "background": Parameter(None, "background pressure / (rho0 c0^2) (default 0.05 standard, 0 liu2015)"),
-        "delta": Parameter(0.1, "delta-SPH diffusion coefficient (0 = off)"),
+        "delta": Parameter(None, "delta-SPH diffusion coefficient (0 = off; default 0.1 with density=continuity, "
+                                 "0 with summation)"),
+        "density": Parameter("continuity", "density of the standard fluid: continuity (evolved) or summation "
+                             "(sum_j m_j W_ij over fluid and wall particles, as [Adami2013])", str),
+        "kernel": Parameter("cubic", "kernel of the standard fluid: " + ", ".join(KERNELS)
+                            + " ([Adami2013]: quintic with h = dx, --set h_factor=1)", str),
         "alpha": Parameter(0.02, "artificial viscosity alpha of the liu2015 fluid ([Liu2015] eq. 11; 0 = off)"),
         "cfl": Parameter(0.2, "CFL number of the standard fluid (the viscous limit 0.125 h^2/nu applies too)"),
         "dt": Parameter(0.0, "fixed time step [s] of the liu2015 fluid (0 = its adaptive rule, eq. 18-20)"),
