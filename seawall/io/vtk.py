@@ -214,12 +214,8 @@ def write_vtu(path, positions, point_data=None, *, field_data=None, metadata=Non
 
     path = os.fspath(path)
     with _atomic_write(path, "w", encoding="ascii", newline="\n") as fh:
-        fh.write('<?xml version="1.0"?>\n')
-        if metadata:
-            fh.write(_metadata_comment(metadata))
-        fh.write('<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
-                 f'header_type="{_HEADER_TYPE}"' + (f' compressor="{_ZLIB}"' if compress else '') + '>\n'
-                 '  <UnstructuredGrid>\n')
+        _open_vtk_file(fh, "UnstructuredGrid", metadata, compress)
+        fh.write('  <UnstructuredGrid>\n')
         if fields:
             fh.write('    <FieldData>\n')
             for name, arr in fields:
@@ -247,6 +243,15 @@ def write_vtu(path, positions, point_data=None, *, field_data=None, metadata=Non
     return path
 
 
+def _open_vtk_file(fh, kind, metadata, compress):
+    """The XML declaration, the metadata comment and the <VTKFile> element of a file of type ``kind``."""
+    fh.write('<?xml version="1.0"?>\n')
+    if metadata:
+        fh.write(_metadata_comment(metadata))
+    fh.write(f'<VTKFile type="{kind}" version="1.0" byte_order="LittleEndian" '
+             f'header_type="{_HEADER_TYPE}"' + (f' compressor="{_ZLIB}"' if compress else '') + '>\n')
+
+
 def write_pvtu(path, sources, positions, point_data=None, *, metadata=None, compress=False, float32=False):
     """Write a parallel frame: a PUnstructuredGrid (.pvtu) naming the pieces ``sources`` (.vtu files
     relative to the .pvtu's directory, written by :func:`write_vtu`).
@@ -261,12 +266,8 @@ def write_pvtu(path, sources, positions, point_data=None, *, metadata=None, comp
         raise ValueError("a .pvtu needs at least one piece")
     path = os.fspath(path)
     with _atomic_write(path, "w", encoding="ascii", newline="\n") as fh:
-        fh.write('<?xml version="1.0"?>\n')
-        if metadata:
-            fh.write(_metadata_comment(metadata))
-        fh.write('<VTKFile type="PUnstructuredGrid" version="1.0" byte_order="LittleEndian" '
-                 f'header_type="{_HEADER_TYPE}"' + (f' compressor="{_ZLIB}"' if compress else '') + '>\n'
-                 '  <PUnstructuredGrid GhostLevel="0">\n'
+        _open_vtk_file(fh, "PUnstructuredGrid", metadata, compress)
+        fh.write('  <PUnstructuredGrid GhostLevel="0">\n'
                  '    <PPointData>\n')
         for name, arr, ncomp in arrays:
             fh.write(f'      <PDataArray type="{_vtk_type_of(arr.dtype)[0]}" Name={quoteattr(name)} '
