@@ -87,7 +87,8 @@ DAM_BREAK = dict(dx=0.0025, h_factor=1.3, c0=10.0, alpha=0.02, delta=0.1, cfl=0.
 DAM_BREAK_T = 0.02           # ~300 steps
 #: the lid-driven cavity at Re = 100, 25 x 25 particles
 CAVITY = dict(dx=4e-5, side=1e-3, lid_speed=1e-3, reynolds=100.0, h_factor=1.2, rho0=1000.0, c0=0.01,
-              fluid="standard", background=0.05, delta=0.1, alpha=0.02, cfl=0.2, dt=0.0, layers=3)
+              fluid="standard", background=0.05, delta=0.1, alpha=0.02, cfl=0.2, dt=0.0, layers=3,
+              density="continuity", kernel="cubic")
 
 
 def _registered():
