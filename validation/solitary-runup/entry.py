@@ -16,6 +16,7 @@ from functools import partial
 import numpy as np
 
 from seawall import cases
+from seawall.errors import InstabilityError
 from seawall.validation import Entry, row
 from seawall.validation._common import pyplot
 
@@ -34,11 +35,18 @@ def run_one(model, hd, n, threads=None, progress=False, shifting=None):
     paddle = sim.reference["paddle"]
     t_end = paddle.crest_arrival(10 * D) + 4.0 / (paddle.k * paddle.c)
     t0 = time.perf_counter()
-    res = sim.run(t_end, progress=progress)
+    try:
+        res = sim.run(t_end, progress=progress)
+        stopped = None
+    except InstabilityError as exc:
+        # an unstable run keeps what it sampled: its run-up up to the stop, the stop named in its row
+        res = sim.result(sim.summary_so_far())
+        stopped = exc.time
     runup = res["runup"]
     return {"model": model, "H_over_d": hd, "n": n, "R_over_d": float(np.nanmax(runup)) / D,
             "t_max": float(res.times[int(np.nanargmax(runup))]), "wall_s": time.perf_counter() - t0,
-            "escaped": res.summary["escaped_particles"], "fluid_particles": sim.fluid.n}
+            "escaped": res.summary["escaped_particles"], "fluid_particles": sim.fluid.n, "t_end": t_end,
+            "stopped": stopped}
 
 
 def reference(load):
@@ -59,7 +67,9 @@ def run(ctx, shifting=None):
             r = run_one("adami", hd, resolution, ctx.threads, shifting=shifting)
             runs.append(r)
             ref = float(np.interp(hd, curve[:, 0], curve[:, 1]))
-            rows.append(row("solitary-runup", f"R/d at H/d = {hd:g}, dx = d/{resolution}", "Chan & Street 1970, curve",
+            case = "solitary-runup" + ("" if r["stopped"] is None else
+                                       f", run stopped (unstable) at t = {r['stopped']:.2f} of {r['t_end']:.2f} s")
+            rows.append(row(case, f"R/d at H/d = {hd:g}, dx = d/{resolution}", "Chan & Street 1970, curve",
                             ref, r["R_over_d"], tolerance=TOL, fmt="{:.3f}"))
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4), dpi=100)
