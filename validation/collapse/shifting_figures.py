@@ -55,7 +55,7 @@ def main():
     labels = [label for _, label, _, _ in runs]
     print("| T | Martin & Moyce (a = 2.25 in) | " + " | ".join(labels) + " |")
     print("| --- " * (len(runs) + 2) + "|")
-    for t, z in mm[mm[:, 0] > 0.5]:
+    for t, z in mm[(mm[:, 0] > 0.5) & (mm[:, 1] < 3.95)]:    # the entry's window: before the far wall
         cells = [f"{np.interp(t, s[:, 0], s[:, 1]):.3f} ({100 * (np.interp(t, s[:, 0], s[:, 1]) / z - 1):+.1f} %)"
                  for _, _, _, s in runs]
         print(f"| {t:.2f} | {z:.3f} | " + " | ".join(cells) + " |")
