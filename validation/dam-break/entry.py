@@ -122,7 +122,8 @@ def run(ctx, n=50, settings=None, plot=None, series=None):
     ax.set_xlim(0, 7.5)
     ax.set_ylim(-0.3, 1.5)
     ax.legend(fontsize=7)
-    ax.set_title(f"dam break H = 0.6 m, sensor P1, dx = H/{H / dx:.0f}")
+    ax.set_title(f"dam break H = 0.6 m, sensor P1, dx = H/{H / dx:.0f}"
+                 + (f", shifting {settings['shifting']}" if "shifting" in settings else ""))
     fig.tight_layout()
     fig.savefig(ctx.plot_path(plot or ("dam_break" if n == 50 or ctx.quick else f"dam_break_h{n}")))
     plt.close(fig)
