@@ -93,7 +93,8 @@ def run(ctx, shifting=None):
             near.append(f"H/d = {r['H_over_d']:g} (d/{r['n']}): {100 * (r['R_over_d'] / pts.mean() - 1):+.1f} %")
     return {"rows": rows,
             "settings": f"case solitary-runup, boundary adami (free slip), d = {D} m, dx = d/{n} "
-                        f"({found[0]['fluid_particles']} fluid particles), wall 10 d from the piston",
+                        f"({found[0]['fluid_particles']} fluid particles)"
+                        + (f", particle shifting {shifting}" if shifting else "") + ", wall 10 d from the piston",
             "notes": ["Against the mean of the experimental points within 0.02 in H/d: " + "; ".join(near) + "."
                       if near else "No experimental point near the heights run.",
                       f"Escaped particles per run: {', '.join(str(r['escaped']) for r in found + fine)}."]}
