@@ -42,6 +42,7 @@ def run_one(model, hd, n, threads=None, progress=False, shifting=None):
         # an unstable run keeps what it sampled: its run-up up to the stop, the stop named in its row
         res = sim.result(sim.summary_so_far())
         stopped = exc.time
+        print(f"solitary-runup H/d = {hd:g}, dx = d/{n}: {exc}", flush=True)    # the guard's reason, in the log
     runup = res["runup"]
     return {"model": model, "H_over_d": hd, "n": n, "R_over_d": float(np.nanmax(runup)) / D,
             "t_max": float(res.times[int(np.nanargmax(runup))]), "wall_s": time.perf_counter() - t0,
