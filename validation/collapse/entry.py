@@ -75,11 +75,13 @@ def run(ctx, shifting=None):
     if not ctx.quick:
         # the front series, kept for figures across entries (docs/validation-notes.md)
         name = "collapse" + (f"-{shifting}" if shifting else "")
-        np.savetxt(os.path.join(HERE, "results", f"front_series_{name}.csv"), np.column_stack([T, Z]), delimiter=",", fmt="%.5f", header="T,Z", comments="")
+        np.savetxt(os.path.join(HERE, "results", f"front_series_{name}.csv"), np.column_stack([T, Z]),
+                   delimiter=",", fmt="%.5f", header="T,Z", comments="")
     plt.close(fig)
     return {"rows": rows, "settings": f"case collapse, boundary adami (free slip), dx = a/{A / dx:.0f} "
                                       f"({sim.fluid.n} fluid particles)"
-                                      + (f", particle shifting {shifting}" if shifting else "") + f", t_end = {t_end:g} s",
+                                      + (f", particle shifting {shifting}" if shifting else "")
+                                      + f", t_end = {t_end:g} s",
             "notes": ["The front runs ahead of both experiments and agrees with the MPS computation of the same "
                       "idealised (instant release, frictionless floor) problem; see docs/validation-notes.md."]}
 

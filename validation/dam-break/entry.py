@@ -146,7 +146,8 @@ def run(ctx, n=50, settings=None, plot=None, series=None):
 _DESCRIPTION = " ".join(__doc__.split("\n\n")[1].split())
 ENTRIES = (
     Entry(name="dam-break", title="Dam break H = 0.6 m: wall pressure P1 against Buchner (2002), dx = H/50",
-          run=partial(run, series="p1_series_dam-break"), expected_s=360, quick_s=10, order=30, description=_DESCRIPTION),
+          run=partial(run, series="p1_series_dam-break"), expected_s=360, quick_s=10, order=30,
+          description=_DESCRIPTION),
     Entry(name="dam-break-h100", title="Dam break H = 0.6 m: wall pressure P1 against Buchner (2002), dx = H/100",
           run=partial(run, n=100), expected_s=2400, quick_s=10, order=31,
           description=_DESCRIPTION.replace("dx = H/50", "dx = H/100")),

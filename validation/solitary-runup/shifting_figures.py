@@ -22,7 +22,8 @@ sys.path.insert(0, ROOT)
 from seawall.validation._common import pyplot, rows_side_by_side  # noqa: E402
 from seawall.validation.entries import solitary_runup as entry  # noqa: E402  (validation/solitary-runup/entry.py)
 
-RUNS = [("solitary-runup", "no shifting (default)", ("k", "-")), ("solitary-runup-sun2017", "shifting sun2017", ("C3", "-")),
+RUNS = [("solitary-runup", "no shifting (default)", ("k", "-")),
+        ("solitary-runup-sun2017", "shifting sun2017", ("C3", "-")),
         ("solitary-runup-lind2012", "shifting lind2012", ("C0", "--"))]
 ROW = re.compile(r"R/d at H/d = ([0-9.]+), dx = d/([0-9]+)")
 
