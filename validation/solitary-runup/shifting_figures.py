@@ -44,15 +44,21 @@ def main():
     fig, ax = plt.subplots(figsize=(5.8, 4.2), dpi=100)
     ax.plot(curve[:, 0], curve[:, 1], "-", color="0.45", lw=1, label="Chan & Street 1970, curve")
     ax.plot(exp[:, 0], exp[:, 1], "o", color="0.45", ms=4, mfc="none", label="experiment")
+    stopped = []
     for label, (colour, line), res in runs:
         pts = {}
         for r in res["rows"]:
             hd, n = ROW.match(r["quantity"]).groups()
             pts.setdefault(int(n), []).append((float(hd), r["value"]))
+            if "stopped" in r["case"]:
+                stopped.append((float(hd), r["value"]))
         for n, mk in zip(sorted(pts), "s^"):
             p = np.array(pts[n])
             ax.plot(p[:, 0], p[:, 1], mk + (line if len(p) > 2 else ""), color=colour, ms=4, mfc="none", lw=1,
                     label=f"seawall d/{n}, {label}")
+    if stopped:
+        p = np.array(stopped)
+        ax.plot(p[:, 0], p[:, 1], "x", color="k", ms=7, label="run stopped by the instability guard")
     ax.set_xlabel("H/d")
     ax.set_ylabel("R/d")
     ax.legend(fontsize=7)
