@@ -21,12 +21,14 @@ and validation/dam-break/pressure_study.py.
 """
 
 import math
+import os
 from functools import partial
 
 import numpy as np
 
 from seawall import cases
 from seawall.diagnostics import impact_features, interval_mean, pressure_noise, running_mean
+from seawall.errors import InstabilityError
 from seawall.validation import Entry, row
 from seawall.validation._common import pyplot
 
@@ -43,13 +45,20 @@ SETTINGS = {"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": 10.0 * math.sqrt(
 #: (alpha_edac = 0.5), the case's artificial viscosity (alpha = 0.02), no delta-SPH (refused with EDAC: it
 #: smooths a density that no longer sets the pressure), the same c0; fixed before the run, not tuned
 EDAC_SETTINGS = {"pressure_model": "edac", "delta": 0.0, "c0": 10.0 * math.sqrt(G * H)}
+#: the particle-shifting variants (entries dam-break-sun2017, dam-break-lind2012; issue 17, item 6): the entry's
+#: scheme with shifting after each step ([Sun2017]; [Lind2012]), free-surface correction included; nothing else
+#: changed, nothing tuned
+SHIFTING_SETTINGS = {kind: {**SETTINGS, "shifting": kind} for kind in ("sun2017", "lind2012")}
+#: where a full run keeps its P1 series (t*, p* as read out, p* smoothed) for figures across entries
+HERE = os.path.dirname(os.path.abspath(__file__))
 FILES = [("buchner2002_P1_pysph.csv", "Buchner 2002 P1 (PySPH digitisation)"),
          ("buchner2002_P1_jaxsph.csv", "Buchner 2002 P1 (jax-sph digitisation)")]
 
 
-def run(ctx, n=50, settings=None, plot=None):
+def run(ctx, n=50, settings=None, plot=None, series=None):
     """The entry at dx = H/n (the quick run: H/10 to t* = 3.4) with the case parameters ``settings``
-    (default :data:`SETTINGS`) and the plot name ``plot``."""
+    (default :data:`SETTINGS`) and the plot name ``plot``; a full run also writes its P1 series to
+    ``results/<series>.csv`` when ``series`` is given."""
     settings = SETTINGS if settings is None else settings
     dx = H / 10 if ctx.quick else H / n
     t_star_end = 3.4 if ctx.quick else 7.5
@@ -58,11 +67,20 @@ def run(ctx, n=50, settings=None, plot=None):
     keep = [p for p in sim.probes if p.name == "P1"]
     sim.probes[:] = keep
     sim.add(every=1e-9)     # every step; read out as the mean over each EVERY interval
-    res = sim.run(t_end, progress=False)
+    try:
+        res = sim.run(t_end, progress=False)
+        stopped = None
+    except InstabilityError as exc:
+        # an unstable run keeps what it sampled: its features up to the stop, the stop named in every row
+        res = sim.result(sim.summary_so_far())
+        stopped = exc
     times, p1 = interval_mean(res.times, res["P1"], EVERY)
     ts = times * math.sqrt(G / H)
     ps_raw = p1 / (RHO0 * G * H)
     ps = running_mean(ts, ps_raw, 0.1)
+    if series and not ctx.quick:
+        np.savetxt(os.path.join(HERE, "results", f"{series}.csv"), np.column_stack([ts, ps_raw, ps]),
+                   delimiter=",", fmt="%.5f", header="t_star,p_star,p_star_running_mean_0.1", comments="")
     refs = []
     for fname, label in FILES:
         d = ctx.data("buchner2002_dambreak2d_P1", fname)
@@ -75,6 +93,8 @@ def run(ctx, n=50, settings=None, plot=None):
     noise = math.nan if noise is None else noise / (RHO0 * G * H)
     ref_label = "Buchner 2002 P1 (mean of 2 digitisations)"
     case = f"dam-break H = 0.6 m, dx = H/{H / dx:.0f}"
+    if stopped is not None:
+        case += f", run stopped (unstable) at t* = {stopped.time * math.sqrt(G / H):.2f}"
     rows = [
         row(case, "P1 arrival t* (p* >= 0.2)", ref_label, ref_mean[0], sph[0], kind="absolute",
             tolerance=0.1, fmt="{:.3f}"),
@@ -102,7 +122,8 @@ def run(ctx, n=50, settings=None, plot=None):
     ax.set_xlim(0, 7.5)
     ax.set_ylim(-0.3, 1.5)
     ax.legend(fontsize=7)
-    ax.set_title(f"dam break H = 0.6 m, sensor P1, dx = H/{H / dx:.0f}")
+    ax.set_title(f"dam break H = 0.6 m, sensor P1, dx = H/{H / dx:.0f}"
+                 + (f", shifting {settings['shifting']}" if "shifting" in settings else ""))
     fig.tight_layout()
     fig.savefig(ctx.plot_path(plot or ("dam_break" if n == 50 or ctx.quick else f"dam_break_h{n}")))
     plt.close(fig)
@@ -116,13 +137,17 @@ def run(ctx, n=50, settings=None, plot=None):
             "notes": ["Reference features per digitisation (arrival, first peak, plateau, secondary peak and its "
                       "time): " + "; ".join(f"{label}: " + ", ".join(f"{f[k]:.3f}" for k in (0, 1, 2, 3, 5))
                                            for (label, _), f in zip(refs, ref_feat)) + ".",
-                      f"Escaped particles: {res.summary['escaped_particles']}."]}
+                      f"Escaped particles: {res.summary['escaped_particles']}."]
+            + ([f"The run stopped before t* = {t_star_end:g}, at t* = {stopped.time * math.sqrt(G / H):.2f}: "
+                f"{stopped}. The rows are the features of the series up to the stop (the noise over it)."]
+               if stopped is not None else [])}
 
 
 _DESCRIPTION = " ".join(__doc__.split("\n\n")[1].split())
 ENTRIES = (
     Entry(name="dam-break", title="Dam break H = 0.6 m: wall pressure P1 against Buchner (2002), dx = H/50",
-          run=run, expected_s=360, quick_s=10, order=30, description=_DESCRIPTION),
+          run=partial(run, series="p1_series_dam-break"), expected_s=360, quick_s=10, order=30,
+          description=_DESCRIPTION),
     Entry(name="dam-break-h100", title="Dam break H = 0.6 m: wall pressure P1 against Buchner (2002), dx = H/100",
           run=partial(run, n=100), expected_s=2400, quick_s=10, order=31,
           description=_DESCRIPTION.replace("dx = H/50", "dx = H/100")),
@@ -135,4 +160,16 @@ ENTRIES = (
                       "(alpha = 0.02), no delta-SPH, c0 = 10 sqrt(g H), Adami walls, dx = H/50; the same "
                       "features, references and tolerances as dam-break. The case's default scheme is not "
                       "changed by it (docs/validation-notes.md, EDAC)."),
+    *(Entry(name=f"dam-break-{kind}", title=f"Dam break H = 0.6 m, particle shifting {kind}: wall pressure P1 "
+            f"against Buchner (2002), dx = H/50",
+            run=partial(run, settings=SHIFTING_SETTINGS[kind], plot=f"dam_break_{kind}",
+                        series=f"p1_series_dam-break-{kind}"),
+            expected_s=900, quick_s=10, order=33 + i,
+            description=f"The dam-break entry with particle shifting {kind} after each step "
+                        f"({'[Sun2017]' if kind == 'sun2017' else '[Lind2012]'}, --set shifting={kind}, with the "
+                        "free-surface correction), everything else as dam-break: the Riemann formulation with the "
+                        "low-dissipation limiter, c0 = 10 sqrt(g H), Adami walls, dx = H/50; the same features, "
+                        "references and tolerances. Issue 17, item 6; the case's default is decided in "
+                        "docs/validation-notes.md (particle shifting on free-surface cases).")
+      for i, kind in enumerate(("sun2017", "lind2012"))),
 )
