@@ -10,6 +10,17 @@ def pyplot():
     return plt
 
 
+def run_to_the_end_or_the_stop(sim, t_end, progress=False):
+    """``(result, InstabilityError or None)``: the run to ``t_end``, or, if the stability guard stops
+    it, what it sampled up to the stop, so an entry can report its rows up to there and name the stop."""
+    from ..errors import InstabilityError
+
+    try:
+        return sim.run(t_end, progress=progress), None
+    except InstabilityError as exc:
+        return sim.result(sim.summary_so_far()), exc
+
+
 def rows_side_by_side(results, labels):
     """Markdown table of the rows of several stored results of one entry family (the same rows in
     the same order), each cell the value with its error and "fail" where it misses its target.

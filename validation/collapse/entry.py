@@ -16,9 +16,8 @@ from functools import partial
 import numpy as np
 
 from seawall import cases
-from seawall.errors import InstabilityError
 from seawall.validation import Entry, row
-from seawall.validation._common import pyplot
+from seawall.validation._common import pyplot, run_to_the_end_or_the_stop
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 A = 0.146
@@ -38,13 +37,9 @@ def run(ctx, shifting=None):
     extra = {"shifting": shifting} if shifting else {}
     sim = cases.build("collapse", boundary="adami", dx=dx, threads=ctx.threads, **extra)
     sim.add(every=0.002)
-    try:
-        res = sim.run(t_end, progress=False)
-        stopped = None
-    except InstabilityError as exc:
-        # an unstable run keeps what it sampled: its front up to the stop, the stop named in every row
-        res = sim.result(sim.summary_so_far())
-        stopped = exc.time
+    # an unstable run keeps what it sampled: its front up to the stop, the stop named in every row
+    res, exc = run_to_the_end_or_the_stop(sim, t_end)
+    stopped = exc.time if exc is not None else None
     case = "collapse" + ("" if stopped is None else f", run stopped (unstable) at t = {stopped:.3f} s")
     T = res.times * np.sqrt(2 * G / A)
     Z = res["front"] / A

@@ -16,9 +16,8 @@ from functools import partial
 import numpy as np
 
 from seawall import cases
-from seawall.errors import InstabilityError
 from seawall.validation import Entry, row
-from seawall.validation._common import pyplot
+from seawall.validation._common import pyplot, run_to_the_end_or_the_stop
 
 D = 0.25
 TOL = 0.10
@@ -35,13 +34,10 @@ def run_one(model, hd, n, threads=None, progress=False, shifting=None):
     paddle = sim.reference["paddle"]
     t_end = paddle.crest_arrival(10 * D) + 4.0 / (paddle.k * paddle.c)
     t0 = time.perf_counter()
-    try:
-        res = sim.run(t_end, progress=progress)
-        stopped = None
-    except InstabilityError as exc:
-        # an unstable run keeps what it sampled: its run-up up to the stop, the stop named in its row
-        res = sim.result(sim.summary_so_far())
-        stopped = exc.time
+    # an unstable run keeps what it sampled: its run-up up to the stop, the stop named in its row
+    res, exc = run_to_the_end_or_the_stop(sim, t_end, progress)
+    stopped = exc.time if exc is not None else None
+    if exc is not None:
         print(f"solitary-runup H/d = {hd:g}, dx = d/{n}: {exc}", flush=True)    # the guard's reason, in the log
     runup = res["runup"]
     return {"model": model, "H_over_d": hd, "n": n, "R_over_d": float(np.nanmax(runup)) / D,
