@@ -375,7 +375,10 @@ def pvtu_pieces(path):
     """The pieces' paths of a .pvtu (in the order it lists them) and its declared point arrays,
     {name: (VTK type, components)}."""
     path = os.fspath(path)
-    root = _parse(path)
+    return _pvtu_pieces(_parse(path), path)
+
+
+def _pvtu_pieces(root, path):
     if root.tag != "VTKFile" or root.get("type") != "PUnstructuredGrid":
         raise ValueError(f"{path} is not a VTK XML PUnstructuredGrid file")
     grid = root.find("./PUnstructuredGrid")
@@ -388,8 +391,8 @@ def pvtu_pieces(path):
         for e in grid.findall("./PPointData/PDataArray")}
 
 
-def _read_pvtu(path):
-    pieces, declared = pvtu_pieces(path)
+def _read_pvtu(root, path):
+    pieces, declared = _pvtu_pieces(root, path)
     parts = [read_vtu(p) for p in pieces]
     for piece, (_, data) in zip(pieces, parts):      # a piece of another frame or run would not match
         names = set(data)
@@ -411,7 +414,7 @@ def read_vtu(path):
     path = os.fspath(path)
     root = _parse(path)
     if root.tag == "VTKFile" and root.get("type") == "PUnstructuredGrid":
-        return _read_pvtu(path)
+        return _read_pvtu(root, path)
     if root.tag != "VTKFile" or root.get("type") != "UnstructuredGrid":
         raise ValueError(f"{path} is not a VTK XML UnstructuredGrid file")
     compressor = root.get("compressor")
@@ -463,12 +466,9 @@ def read_vtu_metadata(path):
             out.update(json.loads(found.group(1)))
         except ValueError:
             raise ValueError(f"{path}: the seawall metadata comment is not valid JSON") from None
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise ValueError(f"{path} is not a valid VTK XML file: {exc}") from None
+    root = _parse(path)
     if root.get("type") == "PUnstructuredGrid":
-        fields = read_vtu_metadata(pvtu_pieces(path)[0][0])
+        fields = read_vtu_metadata(_pvtu_pieces(root, path)[0][0])
         fields.pop("piece", None)          # the first piece's number, not the frame's
         return {**fields, **out}
     for elem in root.findall("./UnstructuredGrid/FieldData/DataArray"):
