@@ -258,8 +258,6 @@ def build_elliptical_drop(params, wall_model, threads):
     c0 = require_positive("c0", params["c0"])
     if params["initial"] not in ("analytic", "zero"):
         raise ParameterError(f"initial must be 'analytic' or 'zero', got {params['initial']!r}")
-    if params["density"] not in ("continuity", "summation"):
-        raise ParameterError(f"density must be 'continuity' or 'summation', got {params['density']!r}")
     disc = shapes.circle((0.0, 0.0), 1.0, dx)
     x = disc.positions
     velocity = np.stack([-A0 * x[:, 0], A0 * x[:, 1]], axis=1)

@@ -42,6 +42,7 @@ from ..eos import Linear
 from ..errors import ParameterError, require_positive
 from ..fluid import DeltaSPH, FluidSystem, LaminarViscosity
 from ..fluid.presets import liu2015
+from ..fluid.system import DENSITY_MODES
 from ..integrators import Symplectic
 from ..kernels import KERNELS, kernel_by_name
 from ..sampling import FieldProbe, interpolate
@@ -50,7 +51,6 @@ from .base import Case, Parameter, wall_layers
 
 
 FLUIDS = ("standard", "liu2015")
-DENSITY_MODES = ("continuity", "summation")
 
 
 def build_cavity(params, wall_model, threads):
