@@ -35,6 +35,7 @@ import numpy as np
 from numba import njit, prange
 
 from .errors import InstabilityError, ParameterError, require_positive
+from .jit import particle_loop
 from .neighbors import CellGrid, cell_index, layout_tag, neighbour_range, point_of, separation, tag_dim
 from .output import VTK, Checkpoint
 from .particles import ParticleArrays
@@ -67,7 +68,7 @@ def pair_force(delta, vn, k, zeta, m_eff):
     return k * delta - 2.0 * zeta * math.sqrt(k * m_eff) * vn
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def contact_accelerations(layout, x, v, radius, mass, start, order, xw, rw, start_w, order_w, lo, inv_cell, ncell,
                           period, k, k_wall, zeta, gx, gy, gz, acc, overlap):
     """Acceleration of every element from its contacts (elements and wall particles) plus gravity.

@@ -32,6 +32,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from .jit import particle_loop
+
 AXES = "xyz"
 
 #: why a fluid particle was removed (the ``reason`` of escaped records, in this order in summaries)
@@ -83,7 +85,7 @@ def nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell
     return b_best
 
 
-@njit(cache=True, parallel=True)
+@particle_loop(fastmath=False)
 def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2, out):
     """Per fluid particle: (x - s_b) . n_b for its nearest wall particle b within the radius, else +inf.
 

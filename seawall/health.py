@@ -59,6 +59,7 @@ from numba import njit, prange
 
 from .diagnostics import REASONS, nearest_wall_particle
 from .errors import ParameterError, require_positive
+from .jit import particle_loop
 
 KEEP = 0
 DOMAIN = 1
@@ -171,7 +172,7 @@ def walls_top(walls, gravity, dx):
     return axis, up, top
 
 
-@njit(cache=True, parallel=True)
+@particle_loop(fastmath=False)
 def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, reach, deep_cells, lo, inv_cell, ncell,
                           radius2, deepest):
     """deepest[i] = min(deepest[i], signed distance of particle i from this wall's surface) for the

@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit, prange
 
 from .errors import ParameterError, require_positive
+from .jit import particle_loop
 
 
 @njit(cache=True)
@@ -42,7 +43,7 @@ def step_limits(dv, c, mu_max, h):
     return math.sqrt(amax2), cv
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def symplectic_predict(x, v, rho, dv, drho, xsph, dt, v_old, rho_old):
     """Predictor half step of :class:`Symplectic` (keeps v_n, rho_n for the corrector)."""
     half = 0.5 * dt
@@ -55,7 +56,7 @@ def symplectic_predict(x, v, rho, dv, drho, xsph, dt, v_old, rho_old):
             v[i, k] += half * dv[i, k]
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def symplectic_correct(x, v, rho, dv, drho, xsph, dt, v_old, rho_old):
     """Corrector of :class:`Symplectic` with the rates at the half step."""
     half = 0.5 * dt
@@ -67,7 +68,7 @@ def symplectic_correct(x, v, rho, dv, drho, xsph, dt, v_old, rho_old):
             x[i, k] += half * (v[i, k] + xsph[i, k])
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def kick(v, rho, dv, drho, dt_half):
     """Half kick of velocity and density (:class:`LeapFrog`)."""
     for i in prange(v.shape[0]):
@@ -76,7 +77,7 @@ def kick(v, rho, dv, drho, dt_half):
             v[i, k] += dt_half * dv[i, k]
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def drift(x, v, xsph, dt):
     """Full drift of the positions with the XSPH-corrected velocity (:class:`LeapFrog`)."""
     for i in prange(x.shape[0]):

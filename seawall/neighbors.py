@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from .errors import ParameterError
+from .jit import particle_loop
 
 
 class CellGrid:
@@ -279,7 +280,7 @@ def build_cell_list(x, lo, inv_cell, ncell):
     return start, order, cell
 
 
-@njit(cache=True, parallel=True)
+@particle_loop(fastmath=False)
 def fill_cell_list(x, lo, inv_cell, ncell, start, order, cell):
     """Counting sort of particles by cell into the given arrays (stable: a cell's particles by index)."""
     n = x.shape[0]

@@ -67,6 +67,7 @@ from numba import njit, prange
 from .coupling import Coupling
 from .eos import eos_density, eos_pressure
 from .errors import ParameterError, require_positive
+from .jit import particle_loop
 from .kernels import kernel_shape
 from .neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from .probes import Probe
@@ -76,7 +77,7 @@ OUTFLOW = 1
 
 
 # ---------------------------------------------------------------- compiled loops
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def characteristic_sums(layout, idx, x, v, rho, zone, normals, start, order, lo, inv_cell, ncell, period, prm, out):
     """Shepard sums over the fluid neighbours j (zone[j] < 0) of each zone particle i = idx[k].
 
@@ -125,7 +126,7 @@ def characteristic_sums(layout, idx, x, v, rho, zone, normals, start, order, lo,
         out[k, 3] = sq
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def zone_neighbour_average(layout, idx, x, zone, supported, J, start, order, lo, inv_cell, ncell, period, prm,
                            out, found):
     """Shepard average of J over the same-zone neighbours with ``supported`` set, for unsupported idx[k]."""

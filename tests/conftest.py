@@ -8,7 +8,12 @@ of the default tier (pyproject.toml), ``-m slow`` runs them.
 
 import os
 
-import pytest
+# The suite compiles seawall's particle loops serially (seawall.jit): about a third of the
+# threaded build's cold compile. tests/unit/test_jit.py runs the threaded build against it.
+# Set here, before any test imports seawall; SEAWALL_LOOPS=threaded runs the suite threaded.
+os.environ.setdefault("SEAWALL_LOOPS", "serial")
+
+import pytest  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(REPO, "data")

@@ -30,6 +30,7 @@ resolutions; [TrixiBoundary]'s default is 0 (no adhesion).
 import numpy as np
 from numba import njit, prange
 
+from ..jit import particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..views import cell_view
 
@@ -45,7 +46,7 @@ def adhesion_kernel(r, s):
     return 0.007 / s ** 3.25 * bracket ** 0.25
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def adhesion_accelerations(xf, xw, psi, cells, support, beta, dv):
     """Add a_i = -beta sum_k Psi_k C(r_ik) (x_i - x_k)/r_ik to every fluid particle near the wall."""
     layout = cells.layout

@@ -59,6 +59,7 @@ from numba import njit, prange
 
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError, require_nonnegative
+from ..jit import particle_loop
 from ..kernels import CUBIC_SPLINE, kernel_shape, kernel_shape_dq
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
 from ..pairs import (continuity, monaghan_viscosity, pressure_acceleration, tensile_coefficient, tensile_term,
@@ -133,7 +134,7 @@ def wall_kernel(kind, rect, dim, d0, d1, d2, nb0, nb1, nb2, ta0, ta1, ta2, tb0, 
     return s, sigma * s, sigma * inv_h * kernel_shape_dq(kind, q), d0 * inv_r, d1 * inv_r, d2 * inv_r, r, r2
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def dbc_wall_rate(layout, xw, vw, nw_, t1w, t2w, xf, vf, xsph, mf, start, order, lo, inv_cell, ncell, period,
                   prm, rect, corr, half_a, half_b, drho_w, sum_w, drift_w):
     """Continuity rate of every wall particle ([Li2022] eq. 8, with eq. 26 when ``rect``).
@@ -195,7 +196,7 @@ class DynamicParams(NamedTuple):
     alpha_wall: float   # artificial viscosity alpha of fluid-wall pairs (eq. 6)
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, rates):
     """Add the wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
@@ -321,7 +322,7 @@ def dbc_fluid_forces(fluid, wall, tangent1, tangent2, cells, prm, dyn, terms, ra
         mu_max[i] = mumax
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def wall_pressures(rho, rho0, c0, order, p_background, p):
     for b in prange(rho.shape[0]):
         p[b] = expanded_pressure(rho[b], rho0, c0, order, p_background)

@@ -38,10 +38,11 @@ viscosity -- the equivalence given in [TrixiBoundary]).
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..eos import eos_density, eos_pressure
 from ..errors import ParameterError, require_nonnegative, require_positive
+from ..jit import particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from ..pairs import (continuity, gradient_factor, laminar_viscosity, pressure_acceleration, riemann_continuity,
@@ -54,7 +55,7 @@ SLIP_MODES = ("free", "noslip")
 DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring")
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, lo, inv_cell, ncell, period, prm,
                      noslip, clip_negative, pw, rhow, vw_visc):
     """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle.
@@ -115,7 +116,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
                     vw_visc[b, 2] = vb2
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, order_f, lo, inv_cell, ncell,
                            period, prm, clip_negative, rhow, pw):
     """rho_b = sum_j m_j W_bj over wall (self included) and fluid neighbours; p_b = EOS(rho_b).
@@ -159,7 +160,7 @@ def wall_summation_density(layout, xw, mw, start_w, order_w, xf, mf, start_f, or
         pw[b] = pb
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv_cell, ncell, period, prm,
                          drhow, pw):
     """drho_b/dt = sum_f m_f (v_b - v_f) . grad_b W_bf and p_b = EOS(rho_b).
@@ -192,7 +193,7 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
         pw[b] = eos_pressure(prm.eos, rhow[b], prm.rho0, prm.c0, prm.gamma, prm.p_background)
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     """Add the dummy wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 

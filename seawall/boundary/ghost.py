@@ -61,11 +61,12 @@ renormalised gradient is not available at ghosts).
 import os
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..diagnostics import nearest_wall_particle
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError
+from ..jit import particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_periodic, separation
 from ..pairs import (continuity, gradient_factor, laminar_viscosity, monaghan_viscosity, pressure_acceleration,
                      viscosity_acts)
@@ -115,7 +116,7 @@ def corner_tangents(positions, surface_points, spacing):
     return corner, tangent
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm, noslip, pg, rhog, vg,
                    corner, tangent):
     """Laws of mirror ([Huang2019] sec. 2.2): ghost p, rho, v from the values interpolated at the mirror points.
@@ -170,7 +171,7 @@ def ghost_transfer(layout, xg, mirror, normal, vwall, awall, interp, count, prm,
                 vg[b, 2] = vw2 + u2 - un * n2
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def ghost_forces(fluid, wall, cells, prm, terms, rates):
     """Add the ghost particles' terms to the fluid's rates (gather over ghost cells; formulas in the module doc).
 
@@ -261,7 +262,7 @@ def ghost_forces(fluid, wall, cells, prm, terms, rates):
         drho[i] += dr
 
 
-@njit(cache=True, parallel=True)
+@particle_loop(fastmath=False)
 def reflect_crossed(xf, vf, xw, nw, sw, vw, start, order, reach, lo, inv_cell, ncell, radius2, hit):
     """Return the fluid particles that crossed the wall surface to the fluid side (opt-in safeguard).
 

@@ -59,6 +59,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError, require_positive
+from ..jit import particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic, separation
 
@@ -626,7 +627,7 @@ def corrected_point(layout, first_order, det_min, clip_from, p0, p1, p2, xf, fie
     return cnt, CORRECTED_SHEPARD
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def interpolate_points(layout, kind, mu, lam, flag, points, xf, fields, vol, start, order, lo, inv_cell, ncell,
                        period, prm, out, count):
     """Interpolate every column of ``fields`` at every row of ``points`` (one thread per point)."""

@@ -27,6 +27,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import require_positive
+from ..jit import particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..views import cell_view
 from .base import WallModel
@@ -53,7 +54,7 @@ def liu2012_factor(r, h, dd, c):
     return 0.01 * c * c * chi * liu2012_shape(r / (0.75 * h)) / (r * r)
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def liu2012_wall_forces(xf, xw, cells, prm, dd, c, dv):
     """Add the Liu et al. (2012) boundary force of every boundary particle within dd to the fluid's dv."""
     layout = cells.layout

@@ -42,9 +42,10 @@ v_b = v_w. Each dummy particle needs its unit wall normal (from the geometry:
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..errors import ParameterError, require_nonnegative
+from ..jit import particle_loop
 from ..kernels import kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..pairs import continuity, gradient_factor, laminar_viscosity
@@ -57,7 +58,7 @@ SLIP_MODES = ("free", "noslip")
 CONTINUITY_MODES = ("normal", "conditional", "off")
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, order, lo, inv_cell, ncell, period,
                        prm, noslip, surface_moves, pw, vb, vbn):
     """Dummy pressure by eq. 26-27 and dummy velocity by eq. 28-29 of [Liu2015] for every wall particle.
@@ -125,7 +126,7 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
             vbn[b] = wn
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def liu2015_wall_forces(fluid, wall, vbn, rho_b, cells, prm, continuity_mode, wall_nu, dv, drho):
     """Add [Liu2015] eq. 21 (density), eq. 22 (pressure) and, with ``wall_nu`` > 0, the eq. 9 viscous term.
 

@@ -58,6 +58,7 @@ from numba import njit, prange
 
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError
+from ..jit import particle_loop
 from ..kernels import kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..pairs import continuity, gradient_factor, laminar_viscosity, monaghan_viscosity, pressure_acceleration, \
@@ -116,7 +117,7 @@ def solid_marker(y0, y1, y2, dim, periodic, xw, surface, normal, start, order, l
     return -1
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def lust_kernel_sums(layout, xf, vol, xw, surface, normal, start, order, reach, lo, inv_cell, ncell, period, prm,
                      offsets, count, shepard, gradient):
     """Per fluid particle i, the kernel sums of its virtual (solid) stencil nodes, volumes ``vol[i]``:
@@ -164,7 +165,7 @@ def lust_kernel_sums(layout, xf, vol, xw, surface, normal, start, order, reach, 
             gradient[i, 2] = g2
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def lust_forces(layout, fluid, xw, vw, aw, surface, normal, start, order, reach, lo, inv_cell, ncell, period, prm,
                 offsets, hydrostatic, noslip, alpha, nu, rates):
     """Add the virtual stencil nodes' terms to the fluid's rates ([Fourtakas2019]; formulas in the module doc).

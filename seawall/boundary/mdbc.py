@@ -47,10 +47,11 @@ copy). Choices where the paper leaves room are listed in docs/boundaries.md
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..eos import eos_pressure
 from ..errors import ParameterError
+from ..jit import particle_loop
 from ..neighbors import point_of, tag_dim
 from ..views import cell_view, fluid_view, wall_view
 from .base import WallModel, rates_bundle
@@ -63,7 +64,7 @@ ORDERS = (0, 1)
 DET_MIN = 1e-3
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def mdbc_wall_state(layout, xw, ghost, vwall, xf, fields, vol, start, order, lo, inv_cell, ncell, period, prm,
                     first_order, det_min, noslip, value, grad, rho_out, p_out, v_out, outcome):
     """mDBC wall state from the ghost nodes ([English2022] sec. 2; formulas in the module doc).

@@ -38,6 +38,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError, require_nonnegative, require_positive
+from ..jit import particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..pairs import gradient_factor, monaghan_viscosity, pressure_acceleration, viscosity_acts
 from ..views import cell_view, fluid_view, wall_view
@@ -79,7 +80,7 @@ class RepulsiveParams(NamedTuple):
     pair_mass: int      # 1: factor 2 m_b / (m_a + m_b) (default), 0: without it (TrixiParticles' code)
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def repulsive_wall_forces(fluid, wall, cells, prm, rep, terms, dv):
     """Add the Monaghan-Kajtar wall acceleration (and optional viscosity) to the fluid's dv.
 

@@ -23,9 +23,10 @@ Choices and their tests are in docs/formulas.md ("EDAC").
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..errors import ParameterError, require_positive
+from ..jit import particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..pairs import edac_diffusion, gradient_factor
 
@@ -69,7 +70,7 @@ def as_pressure_model(value):
                          f"got {value!r}")
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def edac_state(rho, m, p, c0, c, p_over_rho2, volume):
     """What :func:`seawall.fluid.rates.equation_of_state` stores, for a fluid whose pressure ``p`` is
     its own variable: c = c0 (the artificial sound speed of [Ramachandran2019]), p / rho^2 and m / rho.
@@ -81,7 +82,7 @@ def edac_state(rho, m, p, c0, c, p_over_rho2, volume):
         volume[i] = m[i] / r
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def edac_wall_diffusion(layout, x, m, volume, rho, p, xw, volw, rhow, pw, start_w, order_w, lo, inv_cell, ncell,
                         period, prm, dp):
     """Adds the damping term nu_edac lap(p) over one wall's particles to the fluid's dp/dt

@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..eos import eos_pressure, eos_sound_speed
+from ..jit import particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..pairs import (continuity, density_diffusion, edac_diffusion, edac_divergence, gradient_factor, kernel_value,
                      laminar_viscosity,
@@ -46,7 +47,7 @@ from ..neighbors import cell_index, neighbour_range, point_of, tag_dim, tag_peri
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
     """Pressure and sound speed of every particle from its density.
 
@@ -62,7 +63,7 @@ def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
         volume[i] = m[i] / r
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def summation_density(layout, x, m, xb, mb, start_b, order_b, lo, inv_cell, ncell, period, prm, same, rho):
     """Density by summation, rho_i = sum_j m_j W_ij ([Li2022], eq. 7).
 
@@ -126,7 +127,7 @@ def store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, 
             grad[i, 2] = g2
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_cell, ncell, period, prm, grad):
     """<grad rho>_i^L of [Liu2015] eq. 14-15 (Randles & Libersky renormalisation).
 
@@ -197,7 +198,7 @@ def tag_value(tag):
     return tag.ndim - 1
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
 

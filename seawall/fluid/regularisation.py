@@ -42,6 +42,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError, require_nonnegative, require_positive
+from ..jit import particle_loop
 from ..kernels import kernel_shape
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..pairs import gradient_factor
@@ -159,7 +160,7 @@ def as_transport_velocity(value):
 
 
 # ---------------------------------------------------------------- compiled passes
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def concentration_sums(layout, x, vol, xb, volb, start_b, order_b, lo, inv_cell, ncell, period, prm, same,
                        R, nexp, inv_w_dx, grad_c, bmat, bg):
     """Sums over the particles b (the fluid itself when ``same``, else a wall) for every fluid particle i:
@@ -263,14 +264,14 @@ def smallest_eigenvalue(dim, b00, b01, b02, b11, b12, b22):
     return q + 2.0 * p * math.cos(phi + 2.0 * math.pi / 3.0)
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def surface_lambda(bmat, dim, lam):
     """lambda_i, the smallest eigenvalue of B_i ([Marrone2010]), for every particle."""
     for i in prange(bmat.shape[0]):
         lam[i] = smallest_eigenvalue(dim, bmat[i, 0], bmat[i, 1], bmat[i, 2], bmat[i, 3], bmat[i, 4], bmat[i, 5])
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def corrected_vectors(vec, grad_c, lam, scale, lambda_surface, surface, out):
     """out_i = scale * vec_i, with its component along n_i = -grad C_i / |grad C_i| removed where
     ``surface`` and lambda_i < ``lambda_surface`` ([Sun2017]; [Lind2012])."""
@@ -295,7 +296,7 @@ def corrected_vectors(vec, grad_c, lam, scale, lambda_surface, surface, out):
             out[i, 2] = a2
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@particle_loop()
 def transport_stress(layout, x, v, rho, vol, m, dvt, xb, vb, rhob, volb, dvtb, start_b, order_b, lo, inv_cell,
                      ncell, period, prm, same, dv, drho):
     """The terms the transport velocity adds to the rates of every fluid particle i (b: the fluid itself

@@ -1,0 +1,65 @@
+"""How seawall's particle loops are compiled: threaded (the default) or serial.
+
+Every loop over particles is decorated with :func:`particle_loop`, which is Numba's
+``njit(parallel=True)`` with ``prange`` spreading the particles over threads. Numba's
+parallel passes are most of the cold compile time: on the default dam break the fluid loop
+compiles in about 38 s threaded against 6 s serial, and the whole default run in 85 s
+against 25 s (docs/performance.md, "Serial loops"). ``SEAWALL_LOOPS=serial`` in the
+environment, read once at import, compiles the same loops without the parallel passes
+(``prange`` then runs as ``range``): the results are the same row by row, only one thread
+works. The test suite uses it (tests/conftest.py), which is what keeps its cold compile
+short; one test runs the threaded build against it.
+
+Numba's on-disk cache does not key its entries on the ``parallel`` flag, so a serial build
+would load threaded machine code and the reverse. The serial build therefore caches under
+its own directory (``serial-loops`` beside Numba's cache directory, or in the package's
+``__pycache__``).
+"""
+
+import os
+import tempfile
+
+import numba
+from numba import njit
+
+LOOPS_VARIABLE = "SEAWALL_LOOPS"
+LOOP_MODES = ("threaded", "serial")
+
+
+def loop_mode(environ=None):
+    """The build the environment asks for: ``"threaded"`` (default) or ``"serial"``."""
+    value = (os.environ if environ is None else environ).get(LOOPS_VARIABLE, "threaded").strip().lower()
+    if value not in LOOP_MODES:
+        raise ValueError(f"{LOOPS_VARIABLE}={value!r}: must be one of {', '.join(LOOP_MODES)}")
+    return value
+
+
+THREADED = loop_mode() == "threaded"
+
+
+def _serial_cache_dir():
+    base = numba.config.CACHE_DIR or os.path.join(os.path.dirname(os.path.abspath(__file__)), "__pycache__")
+    path = os.path.join(base, "serial-loops")
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError:
+        path = os.path.join(tempfile.gettempdir(), "seawall-serial-loops")
+        os.makedirs(path, exist_ok=True)
+    return path
+
+
+if not THREADED:
+    # read by Numba when each cached function is decorated, so it must be set before the loops
+    # below are defined; every seawall module that compiles a loop imports this one first
+    numba.config.CACHE_DIR = _serial_cache_dir()
+
+
+def particle_loop(fastmath=True):
+    """Decorator of a compiled loop over particles (``prange``), threaded unless ``SEAWALL_LOOPS=serial``.
+
+    ``fastmath=True`` also selects NumPy's error model (a division by zero gives inf or nan,
+    no exception), as every pair loop uses; ``fastmath=False`` is plain ``njit``.
+    """
+    if fastmath:
+        return njit(cache=True, parallel=THREADED, fastmath=True, error_model="numpy")
+    return njit(cache=True, parallel=THREADED)
