@@ -828,6 +828,8 @@ def cmd_bench(args):
     cpu_seconds = time.process_time() - cpu0
     import numba
 
+    from .jit import THREADED
+
     rates.sort()
     line = {"case": case.name, "boundary": args.boundary, "dimension": sim.dim,
             "n_particles": n_particles, "n_fluid": n_fluid, "n_wall": n_wall,
@@ -837,6 +839,7 @@ def cmd_bench(args):
             "median_chunk_particle_steps_per_s": rates[len(rates) // 2],
             "best_chunk_particle_steps_per_s": rates[-1],
             "compile_seconds": compile_s, "threads": numba.get_num_threads(), "cpu_seconds": cpu_seconds,
+            "loops": "threaded" if THREADED else "serial",
             "dx": fluid.spacing if fluid is not None else None}
     if comm is not None:   # a decomposed run: rank 0's timings (the ranks step together), the ranks' CPU time
         stats = sim.summary_so_far()["mpi"]

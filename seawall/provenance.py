@@ -44,6 +44,7 @@ def provenance(argv=None):
     import numpy
 
     from . import __version__
+    from .jit import THREADED
 
     commit, dirty = git_commit()
     return {
@@ -52,6 +53,7 @@ def provenance(argv=None):
         "git_modified": dirty,
         "command_line": list(sys.argv if argv is None else argv),
         "threads": int(numba.get_num_threads()),
+        "loops": "threaded" if THREADED else "serial",
         "python": platform.python_version(),
         "numba": numba.__version__,
         "numpy": numpy.__version__,

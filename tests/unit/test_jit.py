@@ -1,5 +1,6 @@
 """The serial build the suite runs (seawall.jit) and the threaded build users run compute the same flow."""
 
+import json
 import os
 import subprocess
 import sys
@@ -31,6 +32,8 @@ def _dam_break(out, mode, threads):
            "--threads", str(threads), "--out", str(out)]
     done = subprocess.run(cmd, env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
+    with open(out / "summary.json") as fh:
+        assert json.load(fh)["provenance"]["loops"] == mode
     return np.genfromtxt(out / "probes.csv", delimiter=",", names=True)
 
 
