@@ -2,9 +2,10 @@
 
 import numpy as np
 import pytest
+from numba import njit
 
 from seawall.errors import ParameterError
-from seawall.neighbors import CellGrid, neighbour_pairs
+from seawall.neighbors import CellGrid, cell_fractions, cell_index, neighbour_pairs, neighbour_range, reach_range
 
 
 def brute(xa, xb, radius, period=None, same=False):
@@ -92,3 +93,54 @@ def test_memory_is_linear_not_all_pairs():
     i, j = neighbour_pairs(grid, x)
     expected = 40_000 * 40_000 * np.pi * 0.01 ** 2  # ~ N^2 pi r^2 / area
     assert 0.8 * expected < i.size < 1.2 * expected
+
+
+@njit
+def _trimmed_candidates(points, x, start, order, lo, inv_cell, ncell, period, reach2, dim):
+    """Per point: particles the trimmed rows hold within reach, all they hold, all the 5-cell rows hold,
+    and how many trimmed rows reach outside their 5-cell row."""
+    out = np.zeros((points.shape[0], 4), dtype=np.int64)
+    width = 1.0 / inv_cell
+    for i in range(points.shape[0]):
+        p0 = points[i, 0]
+        p1 = points[i, 1]
+        p2 = points[i, 2] if dim == 3 else 0.0
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
+        for row in range(25 if dim == 3 else 5):
+            ka, kb = reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, reach2)
+            out[i, 1] += kb - ka
+            for k in range(ka, kb):
+                j = order[k]
+                r2 = (x[j, 0] - p0) ** 2 + (x[j, 1] - p1) ** 2 + ((x[j, 2] - p2) ** 2 if dim == 3 else 0.0)
+                if r2 < reach2:
+                    out[i, 0] += 1
+            la, lb = neighbour_range(row, 0, cx, cy, cz, ncell, period, start)
+            out[i, 2] += lb - la
+            if ka < kb and (ka < la or kb > lb):
+                out[i, 3] += 1
+    return out
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_trimmed_rows_keep_every_neighbour_and_drop_candidates(dim):
+    """reach_range (the fluid loop's cell walk) holds every particle within the radius -- also for
+    points and particles outside the grid (clamped into its edge cells) and on cell borders --
+    within the 5-cell rows of neighbour_range, and fewer candidates than they do."""
+    rng = np.random.default_rng(10 + dim)
+    radius = 0.13
+    grid = CellGrid(np.zeros(dim), np.ones(dim), radius)
+    x = np.concatenate([rng.uniform(-0.1, 1.1, size=(1500, dim)),
+                        np.round(rng.uniform(0, 1, size=(300, dim)) / grid.cell_size[0]) * grid.cell_size[0]])
+    cells = grid.build(x)
+    points = np.concatenate([rng.uniform(-0.15, 1.15, size=(400, dim)), x[::7]])
+    xp = np.zeros((x.shape[0], 3))
+    xp[:, :dim] = x
+    pp = np.zeros((points.shape[0], 3))
+    pp[:, :dim] = points
+    counts = _trimmed_candidates(pp, xp, cells.start, cells.order, grid.lo, grid.inv_cell, grid.ncell, grid.period,
+                                 radius * radius, dim)
+    d2 = np.sum((points[:, None, :] - x[None, :, :]) ** 2, axis=-1)
+    assert np.array_equal(counts[:, 0], np.sum(d2 < radius * radius, axis=1))
+    assert not np.any(counts[:, 3])
+    assert np.sum(counts[:, 1]) < (0.8 if dim == 3 else 0.95) * np.sum(counts[:, 2])
