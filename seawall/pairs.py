@@ -201,3 +201,16 @@ def edac_diffusion(vol_i, vol_j, inv_m_i, rho_i, rho_j, nu, p_i, p_j, f, r2, eta
     density it is 2 nu V_j (p_i - p_j) F r^2/(r^2 + eta^2), the [Morris1997] Laplacian."""
     eta_ij = 2.0 * nu * rho_i * rho_j / (rho_i + rho_j)
     return (vol_i * vol_i + vol_j * vol_j) * inv_m_i * eta_ij * (p_i - p_j) * f * r2 / (r2 + eta2)
+
+
+@njit(cache=True, inline="always")
+def edac_pressure_advection(vol_j, p_i, p_j, f, tr):
+    """The transport-velocity term of the EDAC pressure equation for one pair: the pressure followed along
+    the transport velocity v~ instead of v ([Ramachandran2019] sec. 3, the EDAC-TVF pressure equation,
+    d~p/dt = dp/dt + (v~ - v) . grad p; [Adami2013] for v~), with grad p in the difference form
+    (grad p)_i = sum_j V_j (p_j - p_i) grad_i W_ij, which vanishes for a uniform p:
+
+        dp_i/dt += V_j (p_j - p_i) (v~_i - v_i) . grad_i W_ij,   ``tr`` = (v~_i - v_i) . r_ij, grad_i W = f r_ij.
+
+    The same form as the density term of the transport velocity (seawall.fluid.regularisation)."""
+    return vol_j * (p_j - p_i) * f * tr

@@ -24,7 +24,7 @@ from .coupling import Coupling
 from .boundary.particle_forces import defines_particle_forces, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
-from .fluid.edac import edac_state, edac_wall_diffusion
+from .fluid.edac import edac_pressure_advection_rates, edac_state, edac_wall_diffusion
 from .fluid.params import DIFFUSION_NONE, DIFFUSION_RENORMALISED, Physics
 from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gradient, scheme_tag, summation_density
 from .fluid.regularisation import (concentration_sums, corrected_vectors, max_speed, surface_lambda,
@@ -287,15 +287,40 @@ class Simulation(Runner):
         prm = self.physics
         dp = fp["dp"]
         dp += (prm.c0 * prm.c0) * (fp["drho"] - drho_fluid)
+        for wall in self._edac_pressure_walls():
+            wp = wall.particles
+            edac_wall_diffusion(g.layout, fp["x"], fp["m"], fp["volume"], fp["rho"], fp["p"], wall.x,
+                                wp["m"] / wp["rho"], wp["rho"], wp["p"], wall.cells.start, wall.cells.order, g.lo,
+                                g.inv_cell, g.ncell, g.period, prm, dp)
+
+    def _edac_pressure_walls(self):
+        """The walls whose particles carry a pressure an EDAC fluid's pressure sums read (damping, and the
+        transport velocity's (v~ - v) . grad p): layered models declaring the pressure term, with p, rho, m."""
+        out = []
         for wall in self.walls:
             wp = wall.particles
             if (wall.model.layout != "layers" or "pressure" not in wall.model.fluid_terms
                     or not all(k in wp for k in ("p", "rho", "m"))
                     or wp["p"].shape[0] != wall.n or wp["rho"].shape[0] != wall.n):
                 continue
-            edac_wall_diffusion(g.layout, fp["x"], fp["m"], fp["volume"], fp["rho"], fp["p"], wall.x,
-                                wp["m"] / wp["rho"], wp["rho"], wp["p"], wall.cells.start, wall.cells.order, g.lo,
-                                g.inv_cell, g.ncell, g.period, prm, dp)
+            out.append(wall)
+        return out
+
+    def _edac_pressure_advection(self):
+        """EDAC with the transport velocity: dp_i/dt += (v~_i - v_i) . grad p_i over the fluid and the walls
+        carrying a pressure ([Ramachandran2019] sec. 3; seawall.fluid.edac.edac_pressure_advection_rates)."""
+        fp = self.fluid.particles
+        g = self.grid
+        prm = self.physics
+        cells = self.fluid_cells
+        dvt = fp["dv_transport"]
+        edac_pressure_advection_rates(g.layout, fp["x"], fp["p"], dvt, fp["x"], fp["volume"], fp["p"], cells.start,
+                                      cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm, True, fp["dp"])
+        for wall in self._edac_pressure_walls():
+            wp = wall.particles
+            edac_pressure_advection_rates(g.layout, fp["x"], fp["p"], dvt, wall.x, wp["m"] / wp["rho"], wp["p"],
+                                          wall.cells.start, wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period,
+                                          prm, False, fp["dp"])
 
     def _fluid_state(self):
         """p (equation of state; EDAC: kept), c, p/rho^2 and m/rho of every fluid particle."""
@@ -365,6 +390,8 @@ class Simulation(Runner):
             transport_stress(g.layout, fp["x"], fp["v"], fp["rho"], fp["volume"], fp["m"], dvt, wall.x, zero,
                              vol, vol, zero, wall.cells.start, wall.cells.order, g.lo, g.inv_cell, g.ncell,
                              g.period, prm, False, ctx.rates.dv, ctx.rates.drho)
+        if prm.edac:
+            self._edac_pressure_advection()
 
     def _apply_shifting(self, dt):
         """After a step: x_i += delta r_i ([Sun2017] / [Lind2012]) from the last evaluation's

@@ -19,6 +19,12 @@ momentum equation. The pair terms are :func:`seawall.pairs.edac_divergence` and
   pressure (layered models declaring the pressure term), with the wall pressure
   the model set in ``update`` and the volume m_b / rho_b.
 
+With the transport velocity ([Adami2013]) the particles move with v~, and the
+pressure is followed along v~: dp_i/dt gains (v~_i - v_i) . grad p_i
+([Ramachandran2019] sec. 3, the EDAC-TVF pressure equation), summed by
+:func:`edac_pressure_advection` over the fluid and over the same walls as the
+damping term (wall pressure from ``update``, volume m_b / rho_b).
+
 Choices and their tests are in docs/formulas.md ("EDAC").
 """
 
@@ -28,7 +34,7 @@ from numba import prange
 from ..errors import ParameterError, require_positive
 from ..jit import particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
-from ..pairs import edac_diffusion, gradient_factor
+from ..pairs import edac_diffusion, edac_pressure_advection, gradient_factor
 
 #: the values of the ``pressure`` option: the equation of state of the density, or EDAC
 PRESSURE_MODELS = ("eos", "edac")
@@ -114,4 +120,44 @@ def edac_wall_diffusion(layout, x, m, volume, rho, p, xw, volw, rhow, pw, start_
                         continue
                     f = gradient_factor(prm.kernel, gradient_scale, np.sqrt(r2) * inv_h)
                     acc += edac_diffusion(vol_i, volw[b], inv_m, rho_i, rhow[b], nu, p_i, pw[b], f, r2, eta2)
+        dp[i] += acc
+
+
+@particle_loop()
+def edac_pressure_advection_rates(layout, x, p, dvt, xb, volb, pb, start_b, order_b, lo, inv_cell, ncell, period,
+                                  prm, same, dp):
+    """Adds (v~_i - v_i) . grad p_i to the fluid's dp/dt, the pressure followed along the transport
+    velocity ([Ramachandran2019] sec. 3, EDAC-TVF; :func:`seawall.pairs.edac_pressure_advection`):
+
+        dp_i/dt += (v~_i - v_i) . sum_b V_b (p_b - p_i) grad_i W_ib.
+
+    b is the fluid itself when ``same`` (V_b = m_b / rho_b), else one wall's particles with the pressure
+    ``pb`` its model set in ``update`` and the volume ``volb`` = m_b / rho_b (the damping term's, see
+    :func:`edac_wall_diffusion`). ``dvt`` is v~ - v of the fluid particles."""
+    n = x.shape[0]
+    inv_h = 1.0 / prm.h
+    gradient_scale = prm.sigma * inv_h * inv_h
+    for i in prange(n):
+        dim = tag_dim(layout)   # inside the parallel body: a constant there (docs/architecture.md)
+        periodic = tag_periodic(layout)
+        nrows = 25 if dim == 3 else 5
+        p0, p1, p2 = point_of(x, i, dim)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        t0, t1, t2 = point_of(dvt, i, dim)
+        if t0 == 0.0 and t1 == 0.0 and t2 == 0.0:
+            continue            # v~ = v (the first evaluation, dt = 0): nothing to add
+        p_i = p[i]
+        acc = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start_b)
+                for k in range(ka, kb):
+                    b = order_b[k]
+                    if same and b == i:
+                        continue
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xb, b, dim, periodic, period)
+                    if r2 >= prm.support2 or r2 == 0.0:
+                        continue
+                    f = gradient_factor(prm.kernel, gradient_scale, np.sqrt(r2) * inv_h)
+                    acc += edac_pressure_advection(volb[b], p_i, pb[b], f, t0 * d0 + t1 * d1 + t2 * d2)
         dp[i] += acc

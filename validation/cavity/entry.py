@@ -18,6 +18,9 @@ TOL = 0.05      # of the lid speed, fixed before the runs (the figure [Liu2015]'
 #: the [Adami2013] scheme (entry cavity-re100-tvf): transport velocity with p_b = rho0 c0^2, the density summed
 #: over fluid and wall particles (no delta-SPH), no background pressure in the equation of state
 TVF_SCHEME = {"transport_velocity": True, "density": "summation", "background": 0.0}
+#: [Ramachandran2019]'s EDAC-TVF scheme (entry cavity-re100-edac-tvf): the TVF scheme above with the pressure
+#: evolved by the EDAC equation (alpha_edac = 0.5) and followed along v~; fixed before the run
+EDAC_TVF_SCHEME = dict(TVF_SCHEME, pressure_model="edac")
 
 
 def run_cavity(ctx, reynolds, t_end, c0=None, n=50, plot=None, **scheme):
@@ -104,6 +107,15 @@ ENTRIES = (
           "(``density=summation``, no delta-SPH) and no background pressure in the equation of state "
           "(``background=0``). [Adami2013] use the quintic spline at h = dx; the cubic spline of the other entries "
           "is kept. Measured outside this entry: docs/validation-notes.md. " + _QUANTITY),
+    Entry(name="cavity-re100-edac-tvf",
+          title="Lid-driven cavity, Re = 100, EDAC pressure + transport velocity: centreline velocities",
+          run=partial(run_cavity, reynolds=100, t_end=30.0, plot="cavity_re100_edac_tvf", **EDAC_TVF_SCHEME),
+          expected_s=1200, quick_s=15, order=81,
+          description="Case ``cavity`` as ``cavity-re100-tvf`` (adami-noslip, dx = L/50, h = 1.2 dx, cubic spline, "
+          "c0 = 10 U, transport velocity with p_b = rho0 c0^2, summed density, no delta-SPH, until t = 30.0 s) with "
+          "the pressure evolved by the EDAC equation ([Ramachandran2019], ``--set pressure_model=edac``, "
+          "alpha_edac = 0.5), including the transport velocity's (v~ - v) . grad p (docs/formulas.md, EDAC): "
+          "[Ramachandran2019]'s EDAC-TVF scheme with the cubic spline. " + _QUANTITY),
     Entry(name="cavity-re1000", title="Lid-driven cavity, Re = 1000: centreline velocities",
           run=partial(run_cavity, reynolds=1000, t_end=30.0), expected_s=320, quick_s=10, order=82,
           description=_SETUP + "until t = 30.0 s. " + _QUANTITY),

@@ -25,6 +25,10 @@ TOL = 0.05
 #: (alpha_edac = 0.5), no delta-SPH (refused with EDAC), the case's shifting and background pressure;
 #: fixed before the run
 EDAC_SETTINGS = {"pressure_model": "edac", "delta": 0.0}
+#: the EDAC-TVF variant (entry taylor-green-edac-tvf-50, [Ramachandran2019] with the transport velocity of
+#: [Adami2013], p_b = rho0 c0^2): the transport velocity is the regularisation (no particle shifting), the
+#: pressure followed along v~ (docs/formulas.md, EDAC); fixed before the run
+EDAC_TVF_SETTINGS = {"pressure_model": "edac", "delta": 0.0, "transport_velocity": True, "shifting": "none"}
 
 
 def run(ctx, n_full=100, settings=None, plot="taylor_green"):
@@ -81,6 +85,14 @@ ENTRIES = (
     Entry(name="taylor-green-edac-50", title="Taylor-Green vortex 2D, EDAC pressure, 50 x 50: kinetic-energy decay",
           run=partial(run, n_full=50, settings=EDAC_SETTINGS, plot="taylor_green_edac_50"), expected_s=150,
           quick_s=5, order=61, description=_EDAC_DESCRIPTION.format(n=50)),
+    Entry(name="taylor-green-edac-tvf-50",
+          title="Taylor-Green vortex 2D, EDAC pressure + transport velocity, 50 x 50: kinetic-energy decay",
+          run=partial(run, n_full=50, settings=EDAC_TVF_SETTINGS, plot="taylor_green_edac_tvf_50"), expected_s=300,
+          quick_s=5, order=61,
+          description="The taylor-green-edac-50 entry with the transport velocity of [Adami2013] (p_b = rho0 c0^2, "
+          "--set transport_velocity=true) in place of the particle shifting (shifting=none): [Ramachandran2019]'s "
+          "EDAC-TVF scheme, with (v~ - v) . grad p in the pressure equation (docs/formulas.md, EDAC); "
+          "the same quantities and tolerances."),
     Entry(name="taylor-green-edac", title="Taylor-Green vortex 2D, EDAC pressure, 100 x 100: kinetic-energy decay",
           run=partial(run, settings=EDAC_SETTINGS, plot="taylor_green_edac"), expected_s=600,
           quick_s=5, order=62, description=_EDAC_DESCRIPTION.format(n=100)),
