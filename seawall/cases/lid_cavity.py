@@ -156,7 +156,7 @@ CAVITY = Case(
                 "brings them to 2-5 % of U between t = 5 and 30 s (entry cavity-re100-tvf passes with 2.6 %; the same "
                 "settings run in 5 s pieces, their steps cut at each piece's end, ended at 5.2 %: the result moves "
                 "with the step sequence, not with the threads), not yet the default: at Re = 1000, dx = L/100 it was "
-                "at 12 % of U at t = 19 s and still falling, the run unfinished (entry cavity-re1000-tvf, target 8 %); "
+                "at 11 % of U at t = 20 s and still falling, the run unfinished (entry cavity-re1000-tvf, target 8 %); "
                 "with the seed's fluid at Re = 1 "
                 "transport_velocity=true keeps them within 2 % at t = 0.5 s)",
     builder=build_cavity,
