@@ -153,8 +153,11 @@ CAVITY = Case(
                 "no regularisation by default (measured at Re = 100, docs/validation-notes.md: sun2017 shifting moves "
                 "the centreline errors by about 1 % of U, lind2012 makes them worse, the transport velocity alone "
                 "changes nothing; [Adami2013]'s scheme, --set transport_velocity=true density=summation background=0, "
-                "brings them to 2-5 % of U between t = 5 and 30 s (entry cavity-re100-tvf passes with 2.6 %; a second "
-                "run ended at 5.2 %), not yet the default; with the seed's fluid at Re = 1 "
+                "brings them to 2-5 % of U between t = 5 and 30 s (entry cavity-re100-tvf passes with 2.6 %; the same "
+                "settings run in 5 s pieces, their steps cut at each piece's end, ended at 5.2 %: the result moves "
+                "with the step sequence, not with the threads), not yet the default: at Re = 1000, dx = L/100 it was "
+                "at 11 % of U at t = 20 s and still falling, the run unfinished (entry cavity-re1000-tvf, target 8 %); "
+                "with the seed's fluid at Re = 1 "
                 "transport_velocity=true keeps them within 2 % at t = 0.5 s)",
     builder=build_cavity,
     parameters={

@@ -1,4 +1,5 @@
-"""Lid-driven cavity entries ``cavity-re1`` (computed reference), ``cavity-re100`` and ``cavity-re1000`` (Ghia et al.).
+"""Lid-driven cavity entries ``cavity-re1`` (computed reference), ``cavity-re100`` and ``cavity-re1000`` (Ghia et al.),
+and the [Adami2013] scheme's ``cavity-re100-tvf`` (L/50) and ``cavity-re1000-tvf`` (L/100).
 
 Each entry's description says its settings; the three share :func:`run_cavity`.
 """
@@ -13,6 +14,7 @@ from seawall.validation import Entry, row
 from seawall.validation._common import pyplot
 
 TOL = 0.05      # of the lid speed, fixed before the runs (the figure [Liu2015]'s Re = 1 comparison is judged by)
+TOL_RE1000 = 0.08   # of the lid speed at Re = 1000, dx = L/100: issue 17's target, fixed before the run
 
 
 #: the [Adami2013] scheme (entry cavity-re100-tvf): transport velocity with p_b = rho0 c0^2, the density summed
@@ -23,7 +25,7 @@ TVF_SCHEME = {"transport_velocity": True, "density": "summation", "background": 
 EDAC_TVF_SCHEME = dict(TVF_SCHEME, pressure_model="edac")
 
 
-def run_cavity(ctx, reynolds, t_end, c0=None, n=50, plot=None, **scheme):
+def run_cavity(ctx, reynolds, t_end, c0=None, n=50, plot=None, tolerance=TOL, **scheme):
     """``scheme``: case parameters and regularisation keys (``shifting=...``), else the case's defaults."""
     n = 20 if ctx.quick else n
     sim = cases.build("cavity", boundary="adami-noslip", dx=1e-3 / n, reynolds=reynolds, c0=c0, threads=ctx.threads,
@@ -48,7 +50,7 @@ def run_cavity(ctx, reynolds, t_end, c0=None, n=50, plot=None, **scheme):
         err = np.where(inside, got - want, 0.0)
         k = int(np.nanargmax(np.abs(err)))
         rows.append(row(f"cavity Re = {reynolds}", f"{name}, worst of {inside.sum()} points (s = {s[k]:.3f})",
-                        label, float(want[k]), float(got[k]), error=float(err[k]), kind="% of U", tolerance=TOL,
+                        label, float(want[k]), float(got[k]), error=float(err[k]), kind="% of U", tolerance=tolerance,
                         fmt="{:.4f}"))
     ke = res["kinetic_energy"]
     late = ke[len(ke) // 2:]
@@ -87,6 +89,7 @@ _SETUP = ("Case ``cavity`` (L = 1 mm, lid U = 1 mm/s, nu = U L / Re; [Liu2015] s
           "no transport velocity: shifting measured at Re = 100 is in docs/validation-notes.md), ")
 _QUANTITY = ("Quantity: u/U on the vertical and v/U on the horizontal centreline at the reference points; the largest "
              "deviation. Tolerance (fixed before the run): 5 % of U.")
+_QUANTITY_RE1000 = _QUANTITY.replace("5 % of U.", "8 % of U (issue 17's target for Re = 1000 at L/100).")
 
 ENTRIES = (
     Entry(name="cavity-re1", title="Lid-driven cavity, Re = 1: centreline velocities",
@@ -119,4 +122,13 @@ ENTRIES = (
     Entry(name="cavity-re1000", title="Lid-driven cavity, Re = 1000: centreline velocities",
           run=partial(run_cavity, reynolds=1000, t_end=30.0), expected_s=320, quick_s=10, order=82,
           description=_SETUP + "until t = 30.0 s. " + _QUANTITY),
+    Entry(name="cavity-re1000-tvf", title="Lid-driven cavity, Re = 1000, transport velocity, dx = L/100: "
+          "centreline velocities",
+          run=partial(run_cavity, reynolds=1000, t_end=30.0, n=100, plot="cavity_re1000_tvf", tolerance=TOL_RE1000,
+                      **TVF_SCHEME), expected_s=7200, quick_s=15, order=82,
+          description="Case ``cavity`` with the scheme of ``cavity-re100-tvf`` ([Adami2013]: transport velocity "
+          "with p_b = rho0 c0^2, density summed over fluid and wall particles, no background pressure in the "
+          "equation of state; adami-noslip, cubic spline, h = 1.2 dx, c0 = 10 U) at Re = 1000 on the finer "
+          "resolution issue 17 asks for, dx = L/100 (10 000 fluid particles), until t = 30.0 s. "
+          + _QUANTITY_RE1000),
 )
