@@ -177,6 +177,9 @@ def build_parser():
     val.add_argument("--doc-only", action="store_true",
                      help="regenerate the markdown from the stored results without running any entry")
     val.add_argument("--threads", type=_positive_int("--threads"), help="threads of the compiled loops")
+    val.add_argument("--checkpoints", metavar="DIR",
+                     help="keep a checkpoint of each entry's run in DIR/<name>/ (every 1/20 of its end time and at "
+                     "Ctrl-C) and continue from it when run again; for the entries that support it (the cavity's)")
     _cluster_options(val, threads=False)
 
     plot = sub.add_parser("plot", help="draw a particle snapshot (and probe histories) of a run directory")
@@ -666,7 +669,8 @@ def cmd_validate(args):
     from .validation import run_validate
 
     return run_validate(args.names, quick=args.quick, results=args.results, doc=args.doc, threads=args.threads,
-                        list_only=args.list, doc_only=args.doc_only, scheduler=args.scheduler, workers=args.workers)
+                        list_only=args.list, doc_only=args.doc_only, scheduler=args.scheduler, workers=args.workers,
+                        checkpoints=args.checkpoints)
 
 
 def cmd_plot(args):

@@ -28,6 +28,13 @@ records the command that produced it, the git commit and the date.
 
 Tolerances are part of each entry's source, fixed before its result is seen;
 a row that misses its tolerance is reported as ``fail``, never tuned.
+
+Long entries can be resumed: ``seawall validate NAME --checkpoints DIR`` makes every
+entry that runs its simulation through :meth:`Context.run` keep a checkpoint in
+``DIR/<name>/checkpoint.h5`` (``<name>-quick`` with ``--quick``; every 1/20 of its end time, and at Ctrl-C or SIGTERM),
+and continue from it when the same command is given again. A restart continues bit
+for bit (:meth:`seawall.Simulation.restart`, ``tests/unit/test_simulation.py``), so the
+stored result is that of the uninterrupted run; it records where it resumed.
 """
 
 import datetime
@@ -90,6 +97,35 @@ class Context:
     threads: int = None
     data_dir: str = DATA
     plots: list = field(default_factory=list)
+    #: ``seawall validate --checkpoints DIR``: where :meth:`run` keeps this entry's checkpoint
+    checkpoint_dir: str = None
+    #: the simulated times at which :meth:`run` continued from a checkpoint (stored with the result)
+    resumed_at: list = field(default_factory=list)
+
+    def run(self, sim, t_end, *, checkpoints=20):
+        """``sim.run(t_end)`` for an entry, resumable with ``--checkpoints``; returns its RunResult.
+
+        With a checkpoint directory the run writes ``checkpoint.h5`` there every ``t_end /
+        checkpoints`` and at Ctrl-C or SIGTERM (after the current step), and an existing one is
+        loaded first (it must come from the same entry: :meth:`seawall.Simulation.restart` checks
+        the build), so a stopped entry continues where it stopped. A checkpoint already at
+        ``t_end`` is measured as it is.
+        """
+        if self.checkpoint_dir is None:
+            return sim.run(t_end, progress=False)
+        from ..interrupts import stop_on_signals
+        from ..output import Checkpoint
+
+        path = os.path.join(self.checkpoint_dir, "checkpoint.h5")
+        if os.path.isfile(path):
+            sim.restart(path)
+            self.resumed_at.append(float(sim.time))
+            print(f"  continuing from {path} at t = {sim.time:.6g} s (step {sim.step})", flush=True)
+        sim.add(Checkpoint(self.checkpoint_dir, every=t_end / checkpoints))
+        if sim.time >= t_end * (1.0 - 1e-9):
+            return sim.result(sim.summary_so_far())
+        with stop_on_signals(lambda: sim):
+            return sim.run(t_end, progress=False)
 
     def data(self, folder, name):
         import numpy as np
@@ -184,9 +220,11 @@ def _fmt_duration(s):
     return f"{s / 60:.1f} min" if s >= 90 else f"{s:.0f} s"
 
 
-def run_entry(entry, *, quick, results=None, img_dir=None, threads=None):
+def run_entry(entry, *, quick, results=None, img_dir=None, threads=None, checkpoints=None):
     """Run one entry, store ``results/<name>.json`` and return the stored dict (``results`` and
-    ``img_dir`` default to the entry's own ``validation/<case>/results`` and ``validation/<case>/img``)."""
+    ``img_dir`` default to the entry's own ``validation/<case>/results`` and ``validation/<case>/img``;
+    ``checkpoints``: the directory under which the entry keeps ``<name>/checkpoint.h5``, see
+    :meth:`Context.run`)."""
     import numba
 
     if results is None or img_dir is None:
@@ -196,7 +234,9 @@ def run_entry(entry, *, quick, results=None, img_dir=None, threads=None):
         img_dir = img_dir or os.path.join(entry.folder, "img")
     if threads is not None:
         numba.set_num_threads(int(threads))
-    ctx = Context(quick=quick, img_dir=img_dir, threads=threads)
+    ctx = Context(quick=quick, img_dir=img_dir, threads=threads,
+                  checkpoint_dir=None if checkpoints is None
+                  else os.path.join(checkpoints, entry.name + ("-quick" if quick else "")))
     started = time.perf_counter()
     out = entry.run(ctx)
     duration = time.perf_counter() - started
@@ -206,8 +246,12 @@ def run_entry(entry, *, quick, results=None, img_dir=None, threads=None):
         "command": entry.command + (" --quick" if quick else ""),
         "quick": quick, "commit": _git_commit(), "date": datetime.date.today().isoformat(),
         "duration_s": round(duration, 1), "threads": numba.get_num_threads(),
-        "settings": out.get("settings", ""), "notes": out.get("notes", []),
+        "settings": out.get("settings", ""),
+        "notes": out.get("notes", []) + ([
+            "Run resumed from its checkpoint at t = " + ", ".join(f"{t:.6g}" for t in ctx.resumed_at)
+            + " s (seawall validate --checkpoints; a restart continues bit for bit)."] if ctx.resumed_at else []),
         "rows": rows,
+        **({"resumed_at": ctx.resumed_at} if ctx.resumed_at else {}),
         # relative to the repository root, so the stored result does not depend on this machine
         "plots": [os.path.relpath(os.path.abspath(p), ROOT) for p in (out.get("plots") or ctx.plots)],
     }
@@ -367,12 +411,16 @@ def write_markdown(doc, stored, registry, *, title_note=""):
 
 
 def run_validate(names=None, *, quick=False, results=None, doc=None, threads=None, list_only=False,
-                 doc_only=False, scheduler=None, workers=None):
+                 doc_only=False, scheduler=None, workers=None, checkpoints=None):
     """The ``seawall validate`` command. Exit code 0 when every entry ran (a failed row is a result,
     not an error), 1 when an entry could not run. ``doc_only``: regenerate the markdown from the
     stored results without running anything. ``scheduler``: run the entries as tasks of a
     dask.distributed cluster (``"local"``: a LocalCluster of ``workers`` processes started here;
     seawall.executors) instead of one after the other in this process."""
+    if checkpoints is not None and (doc_only or list_only):
+        raise ParameterError("--checkpoints: --doc-only and --list run no entry")
+    if checkpoints is not None and scheduler is not None:
+        raise ParameterError("--checkpoints: keeps the checkpoints of entries run here, not with --scheduler")
     registry = all_entries()
     if list_only:
         width = max(len(n) for n in registry)
@@ -381,6 +429,8 @@ def run_validate(names=None, *, quick=False, results=None, doc=None, threads=Non
         return 0
     if doc_only and names:
         raise ParameterError("--doc-only runs no entry: give no NAME")
+    if checkpoints is not None:
+        checkpoints = os.path.abspath(checkpoints)
     names = list(names or registry)
     unknown = [n for n in names if n not in registry]
     if unknown:
@@ -414,7 +464,7 @@ def run_validate(names=None, *, quick=False, results=None, doc=None, threads=Non
         # a worker's working directory is its own: every path it is given is absolute
         results = None if results is None else os.path.abspath(results)
     tasks = [Task(run_named_entry, (n, VALIDATION_DIR, quick, results, img_dir,
-                                    threads if here else executor.threads_per_run), n) for n in names]
+                                    threads if here else executor.threads_per_run, checkpoints), n) for n in names]
     status = 0
 
     def report(index, outcome):
@@ -439,10 +489,10 @@ def run_validate(names=None, *, quick=False, results=None, doc=None, threads=Non
     return status
 
 
-def run_named_entry(name, validation_dir, quick, results, img_dir, threads):
+def run_named_entry(name, validation_dir, quick, results, img_dir, threads, checkpoints=None):
     """Find entry ``name`` in ``validation_dir`` and run it (:func:`run_entry`): a task of
     seawall.executors, given names and paths only, so a cluster's worker can run it."""
     entry = all_entries(validation_dir)[name]
     print(f"\n[{name}] {entry.title}: expected about {_fmt_duration(entry.quick_s if quick else entry.expected_s)}",
           flush=True)
-    return run_entry(entry, quick=quick, results=results, img_dir=img_dir, threads=threads)
+    return run_entry(entry, quick=quick, results=results, img_dir=img_dir, threads=threads, checkpoints=checkpoints)

@@ -31,7 +31,7 @@ def run_cavity(ctx, reynolds, t_end, c0=None, n=50, plot=None, tolerance=TOL, **
     sim = cases.build("cavity", boundary="adami-noslip", dx=1e-3 / n, reynolds=reynolds, c0=c0, threads=ctx.threads,
                       **scheme)
     sim.add(every=t_end / 100)
-    res = sim.run(t_end / 10 if ctx.quick else t_end, progress=False)
+    res = ctx.run(sim, t_end / 10 if ctx.quick else t_end)   # resumable: seawall validate --checkpoints
     if reynolds == 1:
         ref = ctx.data("lid_driven_cavity_stokes_computed", "cavity_Re1_centerlines.csv")
         s_u, u_ref, s_v, v_ref = ref[:, 0], ref[:, 1], ref[:, 0], ref[:, 2]
