@@ -305,3 +305,25 @@ def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):
 def wall_layers(kernel, h, dx):
     """Number of wall layers that fill the kernel support: ceil(support / dx)."""
     return max(1, int(math.ceil(kernel.support(h) / dx - 1e-9)))
+
+
+def density_and_diffusion(params, default_delta):
+    """The fluid's density mode and delta-SPH term from the case parameters ``density`` and ``delta``.
+
+    ``density`` is ``continuity`` (evolved) or ``summation`` (rho_i = sum_j m_j W_ij, as [Adami2013]).
+    ``delta`` left out (None) becomes ``default_delta`` with an evolved density and 0 with a summed one,
+    which is not evolved and so has nothing to diffuse; delta > 0 with a summed density stops in one line.
+    The resolved delta is written back into ``params`` (summary.json records what ran). Returns
+    ``(density, DeltaSPH or None)``.
+    """
+    from ..fluid import DeltaSPH
+    from ..fluid.system import DENSITY_MODES
+
+    density = params["density"]
+    if density not in DENSITY_MODES:
+        raise ParameterError(f"density must be one of {', '.join(DENSITY_MODES)}, got {density!r}")
+    if params["delta"] is None:
+        params["delta"] = default_delta if density == "continuity" else 0.0
+    if density == "summation" and params["delta"] > 0:
+        raise ParameterError("delta: delta-SPH needs density=continuity (a summed density is not evolved)")
+    return density, (DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)

@@ -40,14 +40,13 @@ from .. import probes, shapes
 from ..boundary.base import WallSystem
 from ..eos import Linear
 from ..errors import ParameterError, require_positive
-from ..fluid import DeltaSPH, FluidSystem, LaminarViscosity
+from ..fluid import FluidSystem, LaminarViscosity
 from ..fluid.presets import liu2015
-from ..fluid.system import DENSITY_MODES
 from ..integrators import Symplectic
 from ..kernels import KERNELS, kernel_by_name
 from ..sampling import FieldProbe, interpolate
 from ..simulation import Simulation
-from .base import Case, Parameter, wall_layers
+from .base import Case, Parameter, density_and_diffusion, wall_layers
 
 
 FLUIDS = ("standard", "liu2015")
@@ -76,21 +75,13 @@ def build_cavity(params, wall_model, threads):
         params["background"] = 0.05 if kind == "standard" else 0.0
     background = params["background"] * rho0 * c0 * c0
     block = shapes.rectangle((0.0, 0.0), (side, side), dx)
-    density = params["density"]
-    if density not in DENSITY_MODES:
-        raise ParameterError(f"density must be one of {', '.join(DENSITY_MODES)}, got {density!r}")
-    if params["delta"] is None:
-        # delta-SPH diffuses an evolved density; a summed one has nothing to diffuse
-        params["delta"] = 0.1 if density == "continuity" else 0.0
+    density, diffusion = density_and_diffusion(params, default_delta=0.1)
     if kind == "standard":
         if params["dt"]:
             raise ParameterError("dt fixes the step of the liu2015 fluid; the standard fluid takes cfl")
-        if density == "summation" and params["delta"] > 0:
-            raise ParameterError("delta: delta-SPH needs density=continuity (a summed density is not evolved)")
         kernel = kernel_by_name(params["kernel"])
         fluid = FluidSystem(block, rho0=rho0, eos=Linear(c0=c0, background_pressure=background),
-                            viscosity=LaminarViscosity(nu=nu), density=density,
-                            density_diffusion=DeltaSPH(delta=params["delta"]) if params["delta"] > 0 else None)
+                            viscosity=LaminarViscosity(nu=nu), density=density, density_diffusion=diffusion)
         integrator = Symplectic(cfl=params["cfl"])
     else:
         if params["kernel"] != "cubic" or density != "continuity":

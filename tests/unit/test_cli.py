@@ -119,6 +119,9 @@ def test_bench_prints_one_json_line(capsys):
     (["run", "hydrostatic", "--boundary", "teflon"], "unknown boundary"),
     (["run", "hydrostatic", "--set", "colour=red"], "no parameter 'colour'"),
     (["run", "taylor-green", "--set", "shifting=sideways"], "shifting must be one of"),
+    (["run", "taylor-green", "--set", "density=summed"], "density must be one of"),
+    (["run", "taylor-green", "--set", "density=summation", "--set", "delta=0.1"], "delta: delta-SPH needs"),
+    (["run", "taylor-green", "--set", "kernel=quartic"], "kernel must be one of"),
     (["run", "dam-break", "--set", "transport_velocity=true"], "needs its free-surface correction"),
     (["run", "hydrostatic", "--wall-force", "tnk"], "no wall named 'tnk'; its walls: tank"),
 ])
