@@ -523,6 +523,8 @@ class Simulation(Runner):
                     summation_density(g.layout, fp["x"], fp["m"], wall.x, wall.particles["m"], wall.cells.start,
                                       wall.cells.order, g.lo, g.inv_cell, g.ncell, g.period, prm,
                                       False, rho)
+            # the integrator's density update (zero rate) would put back the density from before the step
+            self._summed_rho = rho.copy()
         self._fluid_state()
         ctx = EvaluationContext(physics=prm, grid=g, fluid_cells=cells, time=t, dx=self.fluid.spacing,
                                 rates=fluid_rates_view(fp))
@@ -733,6 +735,11 @@ class Simulation(Runner):
     def _integrate(self, dt):
         self._dt_now = dt
         self.integrator.step(self, dt)
+        if self.fluid.density_mode == "summation":
+            # keep the step's summed density: the integrators' density updates (drho = 0 here) restore
+            # the value from before the step, which left rho, the output pressure and the density guard
+            # at the first evaluation's values for the whole run
+            np.copyto(self.fluid.particles["rho"], self._summed_rho)
         if self.fluid.shifting is not None:
             self._apply_shifting(dt)
 
