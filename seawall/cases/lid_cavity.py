@@ -9,20 +9,29 @@ Re = 100 and 1000 reached through ``reynolds`` (nu = U L / Re).
 Two fluids (parameter ``fluid``):
 
 * ``standard`` (default): laminar viscosity (Morris et al. 1997, [Liu2015]
-  eq. 9), linear EOS, delta-SPH (delta = 0.1), no artificial viscosity,
-  symplectic integrator, no gravity; ``density=summation`` sums the density
-  over fluid and wall particles instead of evolving it (then no delta-SPH) and
-  ``kernel`` chooses the kernel: [Adami2013] run the cavity with the
-  transport velocity, a summed density and the quintic spline at h = dx;
+  eq. 9), linear EOS, no artificial viscosity, symplectic integrator, no
+  gravity; the density summed over fluid and wall particles (default,
+  ``density=summation``, as [Adami2013]) or evolved by the continuity equation
+  with delta-SPH (delta = 0.1; ``density=continuity``); ``kernel`` chooses the
+  kernel ([Adami2013]: the quintic spline at h = dx);
 * ``liu2015``: the seed's own fluid of sec. 2 (Tait EOS, laminar plus
-  artificial viscosity alpha = 0.02, delta-SPH with the Bonet-Lok gradient,
-  leap-frog with the dt rule of eq. 18-20; :func:`seawall.fluid.presets.liu2015`),
-  no background pressure unless asked for; ``dt`` fixes the step.
+  artificial viscosity alpha = 0.02, continuity density with delta-SPH and the
+  Bonet-Lok gradient, leap-frog with the dt rule of eq. 18-20;
+  :func:`seawall.fluid.presets.liu2015`), no background pressure unless asked
+  for; ``dt`` fixes the step.
+
+Both run with the transport velocity of [Adami2013] (p_b = rho0 c0^2,
+:mod:`seawall.fluid.regularisation`) by default, chosen by the centreline
+errors (the case's description, docs/validation-notes.md);
+``--set transport_velocity=false`` switches it off, and
+``--set transport_velocity=false density=continuity`` is the standard fluid's
+scheme before issue 17 (no regularisation, delta-SPH, EOS background 0.05).
 
 Speed of sound from Morris et al. (1997) sec. 2.4 with a 1 % density
 variation: c0^2 = max(U^2, nu U / L) / 0.01, i.e. c0 = 10 U max(1, Re^-1/2).
-A background pressure of ``background`` x rho0 c0^2 (default 0.05 with the
-standard fluid, 0 with the seed's) keeps
+A background pressure of ``background`` x rho0 c0^2 in the equation of state
+(default 0.05 with the standard fluid's evolved density, else 0: [Adami2013]'s
+scheme puts its background pressure into the transport velocity) keeps
 the wall-corner suction from turning the pressure negative, where the
 pairwise pressure force would pull particles into clumps (tensile
 instability); with the symmetric pressure term a uniform background exerts
