@@ -17,7 +17,9 @@ absolute difference divided by the largest magnitude of the stored array
 (per column for x and v), so a quantity that passes through zero is not
 blown up. Measured between a run with 1 thread and the stored data (2 threads):
 0.0 for 41 of the 42 series, 6.1e-14 for ``cavity-liu2015`` (in ``v``; one loop
-on the liu2015 fluid's path is not bitwise independent of the thread count).
+on the liu2015 fluid's path is not bitwise independent of the thread count); of the
+two transport-velocity cavity series added later, ``cavity-tvf`` 0.0 and
+``cavity-liu2015-tvf`` 2.7e-14 (1.1e-12 with the serial build the tests use).
 The same code also moves by round-off with the state of Numba's compiled code:
 cold compile against cached machine code, and one series run alone against the
 same series after the others in one process (the dispatcher then reuses
