@@ -166,12 +166,14 @@ CAVITY = Case(
                 "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default; "
                 "[Adami2013]'s scheme by default: the transport velocity (p_b = rho0 c0^2) with, for the standard "
                 "fluid, the density summed over fluid and wall particles and no EOS background (the liu2015 fluid "
-                "keeps its continuity density and delta-SPH). Chosen by the centreline errors against Ghia et al. "
-                "(docs/validation-notes.md): at Re = 100, L/50 2.5 % / 2.6 % of U (u / v; entry cavity-re100-tvf) "
+                "keeps its continuity density and delta-SPH). Chosen by the worst centreline errors (against Ghia et al. "
+                "at Re >= 100; docs/validation-notes.md): at Re = 100, L/50 2.5 % / 2.6 % of U (u / v; entries "
+                "cavity-re100, cavity-re100-tvf) "
                 "against 16 % / 12 % without regularisation (continuity density, delta-SPH, EOS background "
                 "0.05 rho0 c0^2: --set transport_velocity=false density=continuity, entries cavity-re*-plain); at "
-                "Re = 1000 ~11 % / 9 % at L/100, t = 20 s and still falling, against 42-47 %; with the seed's fluid "
-                "at Re = 1 0.9-1.8 % at t = 0.5 s against 10-16 %",
+                "Re = 1000 13.9 % / 16.1 % at L/50 (entry cavity-re1000) against 42 % / 47 %, ~11 % / 9 % at L/100 at "
+                "t = 20 s and still falling; at Re = 1, L/50 4.3 % / 2.4 % against 6.4 % / 2.7 % (entries cavity-re1, "
+                "cavity-re1-plain); with the seed's fluid at Re = 1 0.9-1.8 % at t = 0.5 s against 10-16 %",
     builder=build_cavity,
     parameters={
         "dx": Parameter(None, "particle spacing [m] (default side/50, the seed's 2e-5 m)"),
