@@ -171,8 +171,8 @@ CAVITY = Case(
                 "cavity-re100, cavity-re100-tvf) "
                 "against 16 % / 12 % without regularisation (continuity density, delta-SPH, EOS background "
                 "0.05 rho0 c0^2: --set transport_velocity=false density=continuity, entries cavity-re*-plain); at "
-                "Re = 1000 13.9 % / 16.1 % at L/50 (entry cavity-re1000) against 42 % / 47 %, ~11 % / 9 % at L/100 at "
-                "t = 20 s and still falling; at Re = 1, L/50 4.3 % / 2.4 % against 6.4 % / 2.7 % (entries cavity-re1, "
+                "Re = 1000 13.9 % / 16.1 % at L/50 (entry cavity-re1000) against 42 % / 47 %, and 5.9 % / 5.9 % at "
+                "L/100, t = 30 s (entry cavity-re1000-tvf, target 8 %); at Re = 1, L/50 4.3 % / 2.4 % against 6.4 % / 2.7 % (entries cavity-re1, "
                 "cavity-re1-plain); with the seed's fluid at Re = 1 0.9-1.8 % at t = 0.5 s against 10-16 %",
     builder=build_cavity,
     parameters={
