@@ -9,20 +9,29 @@ Re = 100 and 1000 reached through ``reynolds`` (nu = U L / Re).
 Two fluids (parameter ``fluid``):
 
 * ``standard`` (default): laminar viscosity (Morris et al. 1997, [Liu2015]
-  eq. 9), linear EOS, delta-SPH (delta = 0.1), no artificial viscosity,
-  symplectic integrator, no gravity; ``density=summation`` sums the density
-  over fluid and wall particles instead of evolving it (then no delta-SPH) and
-  ``kernel`` chooses the kernel: [Adami2013] run the cavity with the
-  transport velocity, a summed density and the quintic spline at h = dx;
+  eq. 9), linear EOS, no artificial viscosity, symplectic integrator, no
+  gravity; the density summed over fluid and wall particles (default,
+  ``density=summation``, as [Adami2013]) or evolved by the continuity equation
+  with delta-SPH (delta = 0.1; ``density=continuity``); ``kernel`` chooses the
+  kernel ([Adami2013]: the quintic spline at h = dx);
 * ``liu2015``: the seed's own fluid of sec. 2 (Tait EOS, laminar plus
-  artificial viscosity alpha = 0.02, delta-SPH with the Bonet-Lok gradient,
-  leap-frog with the dt rule of eq. 18-20; :func:`seawall.fluid.presets.liu2015`),
-  no background pressure unless asked for; ``dt`` fixes the step.
+  artificial viscosity alpha = 0.02, continuity density with delta-SPH and the
+  Bonet-Lok gradient, leap-frog with the dt rule of eq. 18-20;
+  :func:`seawall.fluid.presets.liu2015`), no background pressure unless asked
+  for; ``dt`` fixes the step.
+
+Both run with the transport velocity of [Adami2013] (p_b = rho0 c0^2,
+:mod:`seawall.fluid.regularisation`) by default, chosen by the centreline
+errors (the case's description, docs/validation-notes.md);
+``--set transport_velocity=false`` switches it off, and
+``--set transport_velocity=false density=continuity`` is the standard fluid's
+scheme before issue 17 (no regularisation, delta-SPH, EOS background 0.05).
 
 Speed of sound from Morris et al. (1997) sec. 2.4 with a 1 % density
 variation: c0^2 = max(U^2, nu U / L) / 0.01, i.e. c0 = 10 U max(1, Re^-1/2).
-A background pressure of ``background`` x rho0 c0^2 (default 0.05 with the
-standard fluid, 0 with the seed's) keeps
+A background pressure of ``background`` x rho0 c0^2 in the equation of state
+(default 0.05 with the standard fluid's evolved density, else 0: [Adami2013]'s
+scheme puts its background pressure into the transport velocity) keeps
 the wall-corner suction from turning the pressure negative, where the
 pairwise pressure force would pull particles into clumps (tensile
 instability); with the symmetric pressure term a uniform background exerts
@@ -71,11 +80,16 @@ def build_cavity(params, wall_model, threads):
     kind = params["fluid"]
     if kind not in FLUIDS:
         raise ParameterError(f"fluid must be one of {', '.join(FLUIDS)}, got {kind!r}")
+    if params["density"] is None:
+        # [Adami2013] sum the density; the liu2015 fluid has only its evolved one
+        params["density"] = "summation" if kind == "standard" else "continuity"
+    density, diffusion = density_and_diffusion(params, default_delta=0.1)
     if params["background"] is None:
-        params["background"] = 0.05 if kind == "standard" else 0.0
+        # the EOS background guards an evolved density against the corner suction (see the module docstring);
+        # [Adami2013]'s scheme puts its background pressure in the transport velocity instead
+        params["background"] = 0.05 if kind == "standard" and density == "continuity" else 0.0
     background = params["background"] * rho0 * c0 * c0
     block = shapes.rectangle((0.0, 0.0), (side, side), dx)
-    density, diffusion = density_and_diffusion(params, default_delta=0.1)
     if kind == "standard":
         if params["dt"]:
             raise ParameterError("dt fixes the step of the liu2015 fluid; the standard fluid takes cfl")
@@ -141,15 +155,16 @@ CAVITY = Case(
     default_boundary="adami-noslip",
     description="lid-driven cavity, L = 1 mm, lid 1 mm/s, Re = 1 ([Liu2015] sec. 4.2; --set reynolds=100/1000 for "
                 "Ghia; --set fluid=liu2015 for the seed's fluid); needs no-slip walls, adami-noslip by default; "
-                "no regularisation by default (measured at Re = 100, docs/validation-notes.md: sun2017 shifting moves "
-                "the centreline errors by about 1 % of U, lind2012 makes them worse, the transport velocity alone "
-                "changes nothing; [Adami2013]'s scheme, --set transport_velocity=true density=summation background=0, "
-                "brings them to 2-5 % of U between t = 5 and 30 s (entry cavity-re100-tvf passes with 2.6 %; the same "
-                "settings run in 5 s pieces, their steps cut at each piece's end, ended at 5.2 %: the result moves "
-                "with the step sequence, not with the threads), not yet the default: at Re = 1000, dx = L/100 it was "
-                "at 11 % of U at t = 20 s and still falling, the run unfinished (entry cavity-re1000-tvf, target 8 %); "
-                "with the seed's fluid at Re = 1 "
-                "transport_velocity=true keeps them within 2 % at t = 0.5 s)",
+                "[Adami2013]'s scheme by default: the transport velocity (p_b = rho0 c0^2) with, for the standard "
+                "fluid, the density summed over fluid and wall particles and no EOS background (the liu2015 fluid "
+                "keeps its continuity density and delta-SPH). Chosen by the worst centreline errors (against Ghia et al. "
+                "at Re >= 100; docs/validation-notes.md): at Re = 100, L/50 2.5 % / 2.6 % of U (u / v; entries "
+                "cavity-re100, cavity-re100-tvf) "
+                "against 16 % / 12 % without regularisation (continuity density, delta-SPH, EOS background "
+                "0.05 rho0 c0^2: --set transport_velocity=false density=continuity, entries cavity-re*-plain); at "
+                "Re = 1000 13.9 % / 16.1 % at L/50 (entry cavity-re1000) against 42 % / 47 %, and 5.9 % / 5.9 % at "
+                "L/100, t = 30 s (entry cavity-re1000-tvf, target 8 %); at Re = 1, L/50 4.3 % / 2.4 % against 6.4 % / 2.7 % (entries cavity-re1, "
+                "cavity-re1-plain); with the seed's fluid at Re = 1 0.9-1.8 % at t = 0.5 s against 10-16 %",
     builder=build_cavity,
     parameters={
         "dx": Parameter(None, "particle spacing [m] (default side/50, the seed's 2e-5 m)"),
@@ -161,11 +176,13 @@ CAVITY = Case(
         "c0": Parameter(None, "speed of sound [m/s] (default 10 U max(1, Re^-1/2))"),
         "fluid": Parameter("standard", "fluid scheme: standard (linear EOS, symplectic) or liu2015 ([Liu2015] sec. 2)",
                            str),
-        "background": Parameter(None, "background pressure / (rho0 c0^2) (default 0.05 standard, 0 liu2015)"),
+        "background": Parameter(None, "EOS background pressure / (rho0 c0^2) (default 0.05 with the standard fluid's "
+                                      "density=continuity, else 0)"),
         "delta": Parameter(None, "delta-SPH diffusion coefficient (0 = off; default 0.1 with density=continuity, "
                                  "0 with summation)"),
-        "density": Parameter("continuity", "density of the standard fluid: continuity (evolved) or summation "
-                             "(sum_j m_j W_ij over fluid and wall particles, as [Adami2013])", str),
+        "density": Parameter(None, "density of the standard fluid: summation (default; sum_j m_j W_ij over fluid "
+                             "and wall particles, as [Adami2013]) or continuity (evolved); the liu2015 fluid keeps "
+                             "continuity", str),
         "kernel": Parameter("cubic", "kernel of the standard fluid: " + ", ".join(KERNELS)
                             + " ([Adami2013]: quintic with h = dx, --set h_factor=1)", str),
         "alpha": Parameter(0.02, "artificial viscosity alpha of the liu2015 fluid ([Liu2015] eq. 11; 0 = off)"),
@@ -174,4 +191,5 @@ CAVITY = Case(
         "layers": Parameter(None, "wall layers (default: enough to fill the kernel support; [Liu2015] uses 4)",
                             int),
     },
+    regularisation={"transport_velocity": True},
     t_end=0.5, probe_every=0.01, output_every=0.05)

@@ -17,7 +17,9 @@ absolute difference divided by the largest magnitude of the stored array
 (per column for x and v), so a quantity that passes through zero is not
 blown up. Measured between a run with 1 thread and the stored data (2 threads):
 0.0 for 41 of the 42 series, 6.1e-14 for ``cavity-liu2015`` (in ``v``; one loop
-on the liu2015 fluid's path is not bitwise independent of the thread count).
+on the liu2015 fluid's path is not bitwise independent of the thread count); of the
+two transport-velocity cavity series added later, ``cavity-tvf`` 0.0 and
+``cavity-liu2015-tvf`` 2.7e-14 (1.1e-12 with the serial build the tests use).
 The same code also moves by round-off with the state of Numba's compiled code:
 cold compile against cached machine code, and one series run alone against the
 same series after the others in one process (the dispatcher then reuses
@@ -88,7 +90,10 @@ DAM_BREAK_T = 0.02           # ~300 steps
 #: the lid-driven cavity at Re = 100, 25 x 25 particles
 CAVITY = dict(dx=4e-5, side=1e-3, lid_speed=1e-3, reynolds=100.0, h_factor=1.2, rho0=1000.0, c0=0.01,
               fluid="standard", background=0.05, delta=0.1, alpha=0.02, cfl=0.2, dt=0.0, layers=3,
-              density="continuity", kernel="cubic")
+              density="continuity", kernel="cubic", transport_velocity=False)
+#: the same cavity with the case's default scheme since issue 17, [Adami2013]'s: the transport velocity
+#: (p_b = rho0 c0^2) and, for the standard fluid, the summed density without delta-SPH or EOS background
+CAVITY_TVF = dict(CAVITY, transport_velocity=True, tvf_background=1.0)
 
 
 def _registered():
@@ -109,11 +114,16 @@ def _all_series():
         out[f"{case}-lust-noslip"] = Series(case, "lust", params, t, t / 30, {"slip": "noslip"})
         # the fluid scheme of [Huang2019] (linear EOS, Gaussian kernel, delta-SPH)
         out[f"{case}-marrone2011"] = Series(case, "adami", {**params, "scheme": "marrone2011"}, t, t / 30)
-    # the two cavity fluids: laminar viscosity with a linear EOS, and the liu2015 preset ([Liu2015] sec. 2)
+    # the two cavity fluids: laminar viscosity with a linear EOS, and the liu2015 preset ([Liu2015] sec. 2), each
+    # without regularisation (the case's default until issue 17) and with the transport velocity (its default since)
     cavity_t = 0.3                # 30 % of a lid passage L / U; ~300 steps (dt = 0.2 h / c0)
     out["cavity-standard"] = Series("cavity", "adami-noslip", CAVITY, cavity_t, cavity_t / 30)
     out["cavity-liu2015"] = Series("cavity", "liu2015-noslip", {**CAVITY, "fluid": "liu2015", "background": 0.0}, cavity_t,
                                    cavity_t / 30)
+    out["cavity-tvf"] = Series("cavity", "adami-noslip", {**CAVITY_TVF, "density": "summation", "background": 0.0,
+                                                          "delta": 0.0}, cavity_t, cavity_t / 30)
+    out["cavity-liu2015-tvf"] = Series("cavity", "liu2015-noslip", {**CAVITY_TVF, "fluid": "liu2015", "background": 0.0},
+                                       cavity_t, cavity_t / 30)
     return out
 
 
