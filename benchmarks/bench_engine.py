@@ -51,6 +51,10 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the in-process parts (the model list, the doc's blocks) import this checkout's package, installed or not:
+# run as a script, only benchmarks/ would be on the path
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
 # dx of the 2D dam break (H = 0.3 m) for about 80k and 320k fluid particles
 SIZES = {"80k": 0.0015, "320k": 0.00075}
 # the plain step's sizes compared with them
