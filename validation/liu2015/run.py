@@ -99,7 +99,7 @@ def cavity(lines, quick, reynolds):
     lines += [f"## Cavity, Re = {reynolds} ([Liu2015] sec. 4.2)", "",
               f"L = 1 mm, lid U = 1 mm/s, nu = U L / Re, dx = L/{n}, h = 1.2 dx, c_s = {c0:g} m/s, 4 wall layers, "
               f"[Liu2015] fluid without regularisation (`cavity --set fluid=liu2015 transport_velocity=false`; the case's "
-              "default adds the transport velocity). Reference: {label}. Error = largest |seawall - "
+              f"default adds the transport velocity). Reference: {label}. Error = largest |seawall - "
               "reference| / U over the reference stations at least dx from the walls (Shepard interpolation), "
               f"at t = {', '.join(f'{t:g}' for t in times)} s.", "",
               "| model | status | wall time | " + " | ".join(f"max err u (s), t = {t:g} s | max err v (s), t = {t:g} s"
