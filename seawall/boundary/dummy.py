@@ -62,13 +62,38 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
 
     ``reach`` is the fluid cell list's reach mask (``CellList.reach_mask``): a wall particle in a
     cell outside it has no fluid particle in the cells its walk would visit, so the walk is skipped
-    and it gets the no-neighbour values below, exactly what the walk would have given (sw = 0).
+    and it gets what a walk without neighbours gives (sw = 0): the background pressure, its
+    density, and its own velocity as no-slip velocity.
     In the 3D dam break most of the 76k wall particles are such.
+
+    A serial pass sorts the wall particles first: those outside the mask get their values there,
+    and the parallel walk runs over the list of the others only. A ``prange`` over all of them
+    split the index range evenly between threads, but the wetted walls lie in a few index ranges,
+    so one thread got most of the walks (3D dam break, 2 threads: 11.3 ms of wall time for 14.3 ms
+    of CPU time, docs/performance.md).
     """
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
     width = 1.0 / inv_cell
-    for b in prange(nw):
+    dim_ = tag_dim(layout)
+    rho_none = eos_density(prm.eos, prm.p_background, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+    walked = np.empty(nw, dtype=np.int64)
+    n_walked = 0
+    for b in range(nw):
+        p0, p1, p2 = point_of(xw, b, dim_)
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        if reach[cx + ncell[0] * (cy + ncell[1] * cz)] != 0:
+            walked[n_walked] = b
+            n_walked += 1
+            continue
+        # no fluid particle within reach: the walk would give sw = 0
+        pw[b] = prm.p_background
+        rhow[b] = rho_none
+        if noslip:
+            for a in range(dim_):
+                vw_visc[b, a] = vw[b, a]
+    for q in prange(n_walked):
+        b = walked[q]
         dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         periodic = tag_periodic(layout)
         nrows = 25 if dim == 3 else 5
@@ -82,8 +107,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
         sw = 0.0
         sp = 0.0
         sv0 = sv1 = sv2 = 0.0
-        nrows_walked = nrows if reach[cx + ncell[0] * (cy + ncell[1] * cz)] != 0 else 0
-        for row in range(nrows_walked):
+        for row in range(nrows):
             for part in range(2 if periodic else 1):
                 if periodic:
                     ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
