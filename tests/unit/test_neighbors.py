@@ -5,7 +5,8 @@ import pytest
 from numba import njit
 
 from seawall.errors import ParameterError
-from seawall.neighbors import CellGrid, cell_fractions, cell_index, neighbour_pairs, neighbour_range, reach_range
+from seawall.neighbors import (CellGrid, cell_fractions, cell_index, cells_within_reach, neighbour_pairs, neighbour_range,
+                               reach_range)
 
 
 def brute(xa, xb, radius, period=None, same=False):
@@ -144,3 +145,36 @@ def test_trimmed_rows_keep_every_neighbour_and_drop_candidates(dim):
     assert np.array_equal(counts[:, 0], np.sum(d2 < radius * radius, axis=1))
     assert not np.any(counts[:, 3])
     assert np.sum(counts[:, 1]) < (0.8 if dim == 3 else 0.95) * np.sum(counts[:, 2])
+
+
+def _reach_by_definition(counts, ncell, period):
+    """Cell c is in reach when some cell within two cells along every axis (wrapped where periodic) is occupied."""
+    nx, ny, nz = ncell
+    occupied = counts.reshape(nz, ny, nx) > 0
+    mask = np.zeros((nz, ny, nx), dtype=bool)
+    rz = 2 if nz > 1 else 0
+    for cz, cy, cx in np.argwhere(occupied):
+        for oz in range(-rz, rz + 1):
+            for oy in range(-2, 3):
+                for ox in range(-2, 3):
+                    z, y, x = cz + oz, cy + oy, cx + ox
+                    if not (0 <= z < nz) and period[2] == 0.0 or not (0 <= y < ny) and period[1] == 0.0 \
+                            or not (0 <= x < nx) and period[0] == 0.0:
+                        continue
+                    mask[z % nz, y % ny, x % nx] = True
+    return mask.ravel()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("periodic", [(0, 0, 0), (1, 0, 0), (0, 1, 1), (1, 1, 1)])
+def test_reach_mask_is_the_five_cell_dilation(dim, periodic):
+    rng = np.random.default_rng(7 + dim)
+    ncell = np.array([9, 7, 6 if dim == 3 else 1], dtype=np.int64)
+    period = np.array([float(p) for p in periodic])
+    if dim == 2:
+        period[2] = 0.0
+    for fill in (0.0, 0.02, 0.1, 0.5):
+        counts = (rng.random(int(ncell.prod())) < fill).astype(np.int64) * rng.integers(1, 4, int(ncell.prod()))
+        start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        got = cells_within_reach(start, ncell, period).astype(bool)
+        assert np.array_equal(got, _reach_by_definition(counts, tuple(ncell), period)), (fill, periodic)
