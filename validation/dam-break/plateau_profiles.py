@@ -334,6 +334,53 @@ def table(resolution, data, order):
     return "\n".join(lines)
 
 
+def slip_group(record):
+    """``"no slip"`` for a run with a no-slip wall (the model's ``-noslip`` name or ``slip=noslip``), else ``"free slip"``."""
+    slip = (record.get("params") or {}).get("slip")
+    if slip is None:
+        return "no slip" if record["model"].endswith("-noslip") else "free slip"
+    return "no slip" if slip == "noslip" else "free slip"
+
+
+#: the read-outs compared within a slip group (issue 15, item 7)
+AGREEMENT_READOUTS = ("wall", "force")
+
+
+def agreement(stored, order):
+    """Spread of the plateau means within each slip group, per resolution, read-out and height.
+
+    The spread is the largest minus the smallest mean over the group's completed runs that have the
+    read-out at every height; "farthest" names the run whose mean distance from the group's median
+    profile is largest (the one that widens the spread most; not named for two runs).
+    """
+    lines = ["Agreement within a slip group (completed runs only): largest minus smallest plateau mean, "
+             "in rho0 g H. Item 7 of issue 15 asks for at most 0.05 at every height at H/200.", "",
+             "| H/N | group | read-out | runs | " + " | ".join(f"y/H = {f:g}" for f in HEIGHTS) + " | farthest from the median |",
+             "| --- | --- | --- | --- | " + " | ".join("---" for _ in HEIGHTS) + " | --- |"]
+    for n in sorted(stored):
+        models = stored[n]["models"]
+        for group in ("free slip", "no slip"):
+            keys = [k for k in order(models) if models[k]["status"] == "completed" and slip_group(models[k]) == group]
+            for ro in AGREEMENT_READOUTS:
+                profiles = {}
+                for k in keys:
+                    vals = [(models[k]["plateau"].get(ro) or {}).get(f"{f:g}") for f in HEIGHTS]
+                    if all(v is not None for v in vals):
+                        profiles[k] = vals
+                if len(profiles) < 2:
+                    continue
+                columns = list(zip(*profiles.values()))
+                spread = [max(c) - min(c) for c in columns]
+                median = [sorted(c)[len(c) // 2] if len(c) % 2 else 0.5 * (sorted(c)[len(c) // 2 - 1] + sorted(c)[len(c) // 2])
+                          for c in columns]
+                # with two runs both are equally far from their median: no run to name
+                farthest = "--" if len(profiles) < 3 else "`{}`".format(
+                    max(profiles, key=lambda k: sum(abs(v - m) for v, m in zip(profiles[k], median))))
+                lines.append(f"| H/{n} | {group} | {ro} | {len(profiles)} | " + " | ".join(_fmt(v) for v in spread)
+                             + f" | {farthest} |")
+    return "\n".join(lines)
+
+
 def plot(stored, path):
     import matplotlib
 
@@ -371,6 +418,8 @@ def write_doc():
     stored = _stored()
     sweep = sweep_module()
     blocks = [table(n, stored[n], sweep._ordered) for n in sorted(stored)]
+    if stored:
+        blocks.append(agreement(stored, sweep._ordered))
     if stored:
         plot(stored, os.path.join(IMG, "plateau_profiles.png"))
         blocks.append("![plateau profiles](../validation/dam-break/img/plateau_profiles.png)")
