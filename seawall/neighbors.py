@@ -370,6 +370,16 @@ def fill_cell_list(x, lo, inv_cell, ncell, start, order, cell):
     start[0] = 0
 
 
+@njit(cache=True, inline="always")
+def _wrapped(k, n, period_k):
+    """Cell index ``k`` on an axis of ``n`` cells, wrapped if the axis is periodic; -1 off a bounded axis."""
+    if 0 <= k < n:
+        return k
+    if period_k == 0.0:
+        return -1
+    return (k + n) % n
+
+
 @njit(cache=True)
 def cells_within_reach(start, ncell, period):
     """Mask of the cells whose 5^d neighbourhood (see neighbour_range) holds any particle.
@@ -398,24 +408,17 @@ def cells_within_reach(start, ncell, period):
                 if start[base + cx + 1] == start[base + cx]:
                     continue
                 for ox in range(-2, 3):
-                    x = cx + ox
-                    if x < 0 or x >= nx:
-                        if period[0] == 0.0:
-                            continue
-                        x = (x + nx) % nx
-                    line[x] = 1
+                    x = _wrapped(cx + ox, nx, period[0])
+                    if x >= 0:
+                        line[x] = 1
             for oz in range(-reach_z, reach_z + 1):
-                z = cz + oz
-                if z < 0 or z >= nz:
-                    if period[2] == 0.0:
-                        continue
-                    z = (z + nz) % nz
+                z = _wrapped(cz + oz, nz, period[2])
+                if z < 0:
+                    continue
                 for oy in range(-2, 3):
-                    y = cy + oy
-                    if y < 0 or y >= ny:
-                        if period[1] == 0.0:
-                            continue
-                        y = (y + ny) % ny
+                    y = _wrapped(cy + oy, ny, period[1])
+                    if y < 0:
+                        continue
                     target = nx * (y + ny * z)
                     for x in range(nx):
                         mask[target + x] |= line[x]
