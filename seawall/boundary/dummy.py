@@ -69,13 +69,13 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
     A serial pass sorts the wall particles first: those outside the mask get their values there,
     and the parallel walk runs over the list of the others only. A ``prange`` over all of them
     split the index range evenly between threads, but the wetted walls lie in a few index ranges,
-    so one thread got most of the walks (3D dam break, 2 threads: 11.3 ms of wall time for 14.3 ms
-    of CPU time, docs/performance.md).
+    so one thread got most of the walks (3D dam break, 2 threads: 11.1 ms of wall time for 14.3 ms
+    of CPU time; 7.7 ms with the list, docs/performance.md).
     """
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
     width = 1.0 / inv_cell
-    dim_ = tag_dim(layout)
+    dim_ = tag_dim(layout)   # the serial pass's; the parallel body reads its own below
     rho_none = eos_density(prm.eos, prm.p_background, prm.rho0, prm.c0, prm.gamma, prm.p_background)
     walked = np.empty(nw, dtype=np.int64)
     n_walked = 0
