@@ -371,8 +371,7 @@ def agreement(stored, order):
                     continue
                 columns = list(zip(*profiles.values()))
                 spread = [max(c) - min(c) for c in columns]
-                median = [sorted(c)[len(c) // 2] if len(c) % 2 else 0.5 * (sorted(c)[len(c) // 2 - 1] + sorted(c)[len(c) // 2])
-                          for c in columns]
+                median = [float(np.median(c)) for c in columns]
                 # with two runs both are equally far from their median: no run to name
                 farthest = "--" if len(profiles) < 3 else "`{}`".format(
                     max(profiles, key=lambda k: sum(abs(v - m) for v, m in zip(profiles[k], median))))
@@ -420,7 +419,6 @@ def write_doc():
     blocks = [table(n, stored[n], sweep._ordered) for n in sorted(stored)]
     if stored:
         blocks.append(agreement(stored, sweep._ordered))
-    if stored:
         plot(stored, os.path.join(IMG, "plateau_profiles.png"))
         blocks.append("![plateau profiles](../validation/dam-break/img/plateau_profiles.png)")
     body = "\n\n".join(blocks) if blocks else "(no stored results)"
