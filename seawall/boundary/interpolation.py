@@ -50,7 +50,12 @@ Choices where the extracted seed text is ambiguous (docs/ghost.md):
   1 at q = 0 and vanishes with all derivatives at q = 1 (r = R), and
   phi = beta(q) / q, weights phi^mu / sum phi^mu with mu = 4. The weights
   already sum to one, so the V_j of the extracted eq. 21 is not applied (it
-  would scale the pressure by V_j).
+  would scale the pressure by V_j). A weight below ``SHEPARD_WEIGHT_FLOOR``
+  (1e-290; q > 0.99702 for the defaults) counts as outside the support: near
+  q = 1 the weight underflows to a subnormal number, and a mirror point whose
+  only neighbour sat there got 1 / sum w = inf, i.e. an infinite ghost
+  pressure (the non-finite particles of the ghost-shepard dam break). Beside
+  any neighbour of normal weight such a weight changes no digit of the result.
 """
 
 import math
@@ -71,6 +76,8 @@ IMPROVED_SHEPARD = 4
 
 #: relative pivot below which a moment matrix counts as singular
 PIVOT_TOL = 1e-6
+#: improved Shepard weights below this count as zero (their reciprocal would overflow; module doc)
+SHEPARD_WEIGHT_FLOOR = 1e-290
 
 
 # ---------------------------------------------------------------- helpers
@@ -215,8 +222,8 @@ def improved_shepard_point(layout, p0, p1, p2, xf, fields, vol, start, order, lo
                     hit = j
                     continue
                 w = shepard_weight_q2(q2, mu, lam)
-                if w <= 0.0:
-                    continue
+                if w < SHEPARD_WEIGHT_FLOOR:
+                    continue   # underflowing weight: as outside the support (module doc)
                 sw += w
                 cnt += 1
                 for q in range(nf):
@@ -766,6 +773,7 @@ class ImprovedShepard(Interpolation):
         """Normalised weights of neighbours at distances ``r`` for support ``R`` (numpy, for inspection)."""
         q = np.asarray(r, dtype=np.float64) / R
         w = np.array([shepard_weight(float(x), self.mu, self.lam) if x > 0 else np.inf for x in q])
+        w[w < SHEPARD_WEIGHT_FLOOR] = 0.0
         if np.isinf(w).any():
             return np.where(np.isinf(w), 1.0, 0.0) / np.isinf(w).sum()
         s = w.sum()

@@ -187,3 +187,31 @@ def test_improved_shepard_weights_partition_of_unity():
     # a neighbour exactly at the point takes all the weight (seed eq. 17, r = 0)
     w0 = method.weights(np.array([0.0, 0.3 * R, 0.6 * R]), R)
     assert w0.tolist() == [1.0, 0.0, 0.0]
+
+
+@pytest.mark.parametrize("q", [0.9972, 0.9973])
+def test_improved_shepard_lone_neighbour_at_the_support_edge(q):
+    """One neighbour so near r = R that its weight underflows to a subnormal number: the point has no
+    usable neighbour (count 0, finite zero output), not 1 / sum w = inf. This inf was the non-finite
+    ghost pressure of the ghost-shepard dam break (t = 0.635 s at dx = 0.02 m)."""
+    from seawall.boundary.interpolation import shepard_weight
+    kernel = CubicSpline()
+    h = 1.3 * DX
+    prm = physics(kernel, h, 2)
+    R = kernel.support(h)
+    assert 0.0 < shepard_weight(q, 4.0, 2.0) < 2.3e-308   # subnormal: its reciprocal overflows
+    xf = np.array([[q * R, 0.0]])
+    grid = CellGrid(np.array([-0.1, -0.1]), np.array([0.1, 0.1]), R)
+    cells = grid.build(xf)
+    fields = np.array([[1500.0, -0.2, 1.6]])
+    out, count = ImprovedShepard().interpolate(np.zeros((1, 2)), grid, cells, xf, fields, np.full(1, DX * DX), prm)
+    assert count[0] == 0
+    assert np.all(out == 0.0)
+    # beside a neighbour of normal weight the edge neighbour changes nothing
+    xf2 = np.array([[q * R, 0.0], [0.0, 0.5 * R]])
+    cells2 = grid.build(xf2)
+    fields2 = np.array([[1500.0, -0.2, 1.6], [700.0, 0.1, 0.3]])
+    out2, count2 = ImprovedShepard().interpolate(np.zeros((1, 2)), grid, cells2, xf2, fields2, np.full(2, DX * DX),
+                                                 prm)
+    assert count2[0] == 1
+    assert out2[0].tolist() == fields2[1].tolist()
