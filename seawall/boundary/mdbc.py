@@ -66,13 +66,14 @@ DET_MIN = 1e-3
 
 @particle_loop()
 def mdbc_wall_state(layout, xw, ghost, vwall, xf, fields, vol, start, order, lo, inv_cell, ncell, period, prm,
-                    first_order, det_min, noslip, value, grad, rho_out, p_out, v_out, outcome):
+                    first_order, det_min, noslip, clip_negative, value, grad, rho_out, p_out, v_out, outcome):
     """mDBC wall state from the ghost nodes ([English2022] sec. 2; formulas in the module doc).
 
     ``fields[:, 0]`` is the fluid density, ``fields[:, 1:]`` the velocity (no slip only).
     rho_b = rho_g + (x_b - x_g) . grad rho_g (first order) or rho_g (Shepard); rho0 without neighbours.
     p_b = EOS(rho_b); v_b = v_w (vel0) or 2 v_w - v_g (no slip). ``outcome[b]`` is the
-    interpolation's outcome (interpolation.CORRECTED_*).
+    interpolation's outcome (interpolation.CORRECTED_*). With ``clip_negative`` rho_b is not
+    taken below rho0, so p_b >= p_background (docs/boundaries.md, "mDBC", choice 3).
     """
     for b in prange(xw.shape[0]):
         dim = tag_dim(layout)   # inside the parallel body, where it is a constant
@@ -91,6 +92,8 @@ def mdbc_wall_state(layout, xw, ghost, vwall, xf, fields, vol, start, order, lo,
                 rho += (x0 - g0) * grad[b, 0, 0] + (x1 - g1) * grad[b, 0, 1]
                 if dim == 3:
                     rho += (x2 - g2) * grad[b, 0, 2]
+        if clip_negative and rho < prm.rho0:
+            rho = prm.rho0
         rho_out[b] = rho
         p_out[b] = eos_pressure(prm.eos, rho, prm.rho0, prm.c0, prm.gamma, prm.p_background)
         if noslip and how != CORRECTED_NONE:
@@ -142,6 +145,10 @@ class ModifiedDynamicBoundary(WallModel):
     det_min : float
         |det A| of the correction matrix below which the ghost node falls back
         to the Shepard value (default 1e-3).
+    clip_negative : bool
+        Keep the wall density at or above rho0, so that the wall never pulls on
+        the fluid (p_b >= p_background). Off by default: [English2022] does not
+        clip; docs/boundaries.md ("mDBC", choice 3) gives what it changes.
     """
 
     #: pairwise_momentum (see WallModel): the wall particles' state is set in update; the push is
@@ -156,13 +163,14 @@ class ModifiedDynamicBoundary(WallModel):
     edac_refusal = ("its wall pressure is the equation of state of the fluid density it extrapolates, and with "
                     "EDAC the fluid's density does not set its pressure")
 
-    def __init__(self, *, slip="vel0", order=1, det_min=DET_MIN):
+    def __init__(self, *, slip="vel0", order=1, det_min=DET_MIN, clip_negative=False):
         slip = str(slip).strip()
         if slip not in SLIP_MODES:
             raise ParameterError(f"slip must be one of {', '.join(SLIP_MODES)} for mdbc; got {slip!r}")
         self.slip = slip
         self.order = _order(order)
         self.det_min = _det_min(det_min)
+        self.clip_negative = bool(clip_negative)
         self.name = "mdbc" if slip == "vel0" else "mdbc-noslip"
 
     def prepare(self, wall, fluid, physics):
@@ -197,7 +205,7 @@ class ModifiedDynamicBoundary(WallModel):
         grad = np.empty((wall.n, nf, wall.dim))
         mdbc_wall_state(g.layout, pa["x"], pa["ghost"], pa["v"], fp["x"], fields, vol, ctx.fluid_cells.start,
                         ctx.fluid_cells.order, g.lo, g.inv_cell, g.ncell, g.period, ctx.physics,
-                        self.order == 1, self.det_min, noslip, value, grad, pa["rho"], pa["p"], pa["v_mdbc"],
+                        self.order == 1, self.det_min, noslip, self.clip_negative, value, grad, pa["rho"], pa["p"], pa["v_mdbc"],
                         pa["mdbc_outcome"])
 
     def interact(self, fluid, wall, ctx, dv, drho):
@@ -211,6 +219,8 @@ class ModifiedDynamicBoundary(WallModel):
         parts = [f"order {self.order}"]
         if self.det_min != DET_MIN:
             parts.append(f"det_min {self.det_min:g}")
+        if self.clip_negative:
+            parts.append("wall density clipped at rho0")
         return f"{self.name} ({', '.join(parts)})"
 
 

@@ -20,7 +20,8 @@ from .interpolation import MLS, SFDI, ImprovedShepard, Normalised
 def _dummy(density, default_slip="free"):
     def factory(*, slip=default_slip, wall_nu=None, clip_negative=None):
         return DummyParticles(density=density, slip=slip, nu=None if wall_nu is None else _number("wall_nu", wall_nu),
-                              clip_negative_pressure=None if clip_negative is None else _flag(clip_negative))
+                              clip_negative_pressure=(None if clip_negative is None
+                                                      else _flag("clip_negative", clip_negative)))
     return factory
 
 
@@ -30,7 +31,7 @@ def _ghost(make):
     The factory takes ``slip`` and the keywords of ``make``.
     """
     def factory(*, slip="free", reflect=False, **options):
-        return GhostParticles(make(**options), slip=str(slip), reflect=_flag(reflect))
+        return GhostParticles(make(**options), slip=str(slip), reflect=_flag("reflect", reflect))
     factory.__signature__ = inspect.Signature(
         [inspect.Parameter("slip", inspect.Parameter.KEYWORD_ONLY, default="free"),
          inspect.Parameter("reflect", inspect.Parameter.KEYWORD_ONLY, default=False)]
@@ -43,7 +44,7 @@ def _shepard(shepard_mu=4.0, shepard_lambda=2.0):
 
 
 def _sfdi(sfdi_diagonal=False):
-    return SFDI(diagonal=_flag(sfdi_diagonal))
+    return SFDI(diagonal=_flag("sfdi_diagonal", sfdi_diagonal))
 
 
 def _monaghan_kajtar(*, K=None, beta=3.0, alpha_wall=0.0, mass_factor="pair"):
@@ -63,10 +64,11 @@ def _liu2015(default_slip="free"):
 
 
 def _mdbc(default_slip):
-    def factory(*, slip=default_slip, order=1, det_min=1e-3):
+    def factory(*, slip=default_slip, order=1, det_min=1e-3, clip_negative=False):
         from .mdbc import ModifiedDynamicBoundary
 
-        return ModifiedDynamicBoundary(slip=str(slip), order=order, det_min=det_min)
+        return ModifiedDynamicBoundary(slip=str(slip), order=order, det_min=det_min,
+                                       clip_negative=_flag("clip_negative", clip_negative))
     return factory
 
 
@@ -96,7 +98,7 @@ def _number(name, value):
     return number
 
 
-def _flag(value):
+def _flag(name, value):
     if isinstance(value, bool):
         return value
     text = str(value).strip().lower()
@@ -104,7 +106,7 @@ def _flag(value):
         return True
     if text in ("0", "false", "no", "off"):
         return False
-    raise ParameterError(f"expected a true/false value, got {value!r}")
+    raise ParameterError(f"wall option {name} must be a true/false value (1/0, yes/no), got {value!r}")
 
 
 def _dynamic(cls):
@@ -113,9 +115,9 @@ def _dynamic(cls):
         if order is not None:
             kwargs["order"] = order
         if rectangular is not None:
-            kwargs["rectangular"] = _flag(rectangular)
+            kwargs["rectangular"] = _flag("rectangular", rectangular)
         if correction is not None:
-            kwargs["correction"] = _flag(correction)
+            kwargs["correction"] = _flag("correction", correction)
         if wall_density is not None:
             kwargs["wall_density"] = str(wall_density).strip()
         if alpha_wall is not None:
@@ -158,7 +160,8 @@ BOUNDARIES = {
                 "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off)"),
     "liu2015-noslip": (_liu2015("noslip"), "Liu et al. (2015) dummy particles with no slip (eq. 28-29)"),
     "mdbc": (_mdbc("vel0"), "modified DBC, English et al. (2022, [English2022]): wall density extrapolated from a "
-             "mirrored ghost node, first-order corrected (--set order=1|0 det_min=1e-3 slip=vel0|noslip)"),
+             "mirrored ghost node, first-order corrected (--set order=1|0 det_min=1e-3 slip=vel0|noslip "
+             "clip_negative=0|1)"),
     "mdbc-noslip": (_mdbc("noslip"), "mDBC with no slip: v_b = 2 v_w - v_ghost ([English2022])"),
     "liu2012": (_liu2012, "boundary force of Liu, Shao & Chang (2012), one row at dx/beta (--set beta=2 c=<force speed, "
                 "default c0>)"),

@@ -165,12 +165,27 @@ def test_noslip_mirrors_the_ghost_velocity():
     assert not still.particles["v_mdbc"].any()  # vel0: the wall's own velocity
 
 
+def test_clip_negative_keeps_the_wall_density_at_rho0_or_above():
+    """A fluid in tension (density falling with height, below rho0 near the floor): unclipped the floor
+    takes densities below rho0 (a wall that pulls); with clip_negative exactly max(rho_b, rho0)."""
+    slope = np.array([0.0, 120.0])   # rho = rho0 + 120 y: below rho0 under y = 0
+    _, _, free = _tank(ModifiedDynamicBoundary(), slope=slope)
+    _, _, clipped = _tank(ModifiedDynamicBoundary(clip_negative=True), slope=slope)
+    rho = free.particles["rho"]
+    assert (rho < RHO0 - 1.0).any()
+    np.testing.assert_array_equal(clipped.particles["rho"], np.maximum(rho, RHO0))
+    assert (clipped.particles["p"] >= 0.0).all()
+    assert boundary_by_name("mdbc", {"clip_negative": "1"}).clip_negative
+    assert "clipped" in boundary_by_name("mdbc-noslip", {"clip_negative": "yes"}).describe()
+
+
 def test_registry_names_and_bad_options():
     assert boundary_by_name("mdbc").slip == "vel0"
     assert boundary_by_name("mdbc-noslip").name == "mdbc-noslip"
     m = boundary_by_name("mdbc", {"order": "0", "det_min": "1e-2"})
     assert (m.order, m.det_min) == (0, 1e-2)
     for options, name in (({"order": 2}, "order"), ({"order": "x"}, "order"), ({"det_min": -1}, "det_min"),
-                          ({"det_min": "nan"}, "det_min"), ({"slip": "free"}, "slip")):
+                          ({"det_min": "nan"}, "det_min"), ({"slip": "free"}, "slip"),
+                          ({"clip_negative": "maybe"}, "clip_negative")):
         with pytest.raises(ParameterError, match=name):
             boundary_by_name("mdbc", dict(options))
