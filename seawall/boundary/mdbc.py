@@ -205,8 +205,8 @@ class ModifiedDynamicBoundary(WallModel):
         grad = np.empty((wall.n, nf, wall.dim))
         mdbc_wall_state(g.layout, pa["x"], pa["ghost"], pa["v"], fp["x"], fields, vol, ctx.fluid_cells.start,
                         ctx.fluid_cells.order, g.lo, g.inv_cell, g.ncell, g.period, ctx.physics,
-                        self.order == 1, self.det_min, noslip, self.clip_negative, value, grad, pa["rho"], pa["p"], pa["v_mdbc"],
-                        pa["mdbc_outcome"])
+                        self.order == 1, self.det_min, noslip, self.clip_negative, value, grad, pa["rho"], pa["p"],
+                        pa["v_mdbc"], pa["mdbc_outcome"])
 
     def interact(self, fluid, wall, ctx, dv, drho):
         # continuity with the wall's own velocity, viscosity with the mirrored one (as the Adami
