@@ -1,7 +1,8 @@
 """How seawall's particle loops are compiled: threaded (the default) or serial.
 
 Every loop over particles is decorated with :func:`particle_loop`, which is Numba's
-``njit(parallel=True)`` with ``prange`` spreading the particles over threads. Numba's
+``njit(parallel=...)`` with ``prange`` spreading the particles over threads (and only
+``prange``: :func:`parallel_options`). Numba's
 parallel passes are most of the cold compile time: on the default dam break the fluid loop
 compiles in about 38 s threaded against 6 s serial, and the whole default run in 85 s
 against 25 s (docs/performance.md, "Serial loops"). ``SEAWALL_LOOPS=serial`` in the
@@ -37,6 +38,28 @@ def loop_mode(environ=None):
 THREADED = loop_mode() == "threaded"
 
 
+def parallel_options(threaded=THREADED):
+    """Numba's ``parallel`` option of a particle loop: ``prange`` only, or ``False`` when serial.
+
+    seawall writes its parallelism as explicit ``prange`` loops; the automatic conversions of
+    array expressions, slice assignments, comprehensions and NumPy calls into parallel loops,
+    and the fusion of such loops, find nothing worth a thread in its loops (3-element
+    ``1.0 / inv_cell`` and one ``start[:] = 0`` in the default run) but cost compile time: the
+    default dam break's cold compile took about 18 % less process CPU without them (medians)
+    (docs/performance.md, "Start-up"). Given as Numba's ``ParallelOptions``, not a dict: Numba
+    empties a dict at a loop's first compile, so a second specialisation would get every
+    conversion back.
+    """
+    if not threaded:
+        return False
+    try:
+        from numba.core.cpu import ParallelOptions
+    except ImportError:     # a Numba without this class: every conversion, as parallel=True
+        return True
+    return ParallelOptions({"prange": True, "reduction": True, "numpy": False, "setitem": False,
+                            "comprehension": False, "inplace_binop": False, "stencil": False, "fusion": False})
+
+
 def _serial_cache_dir():
     base = numba.config.CACHE_DIR or os.path.join(os.path.dirname(os.path.abspath(__file__)), "__pycache__")
     path = os.path.join(base, "serial-loops")
@@ -61,5 +84,5 @@ def particle_loop(fastmath=True):
     no exception), as every pair loop uses; ``fastmath=False`` is plain ``njit``.
     """
     if fastmath:
-        return njit(cache=True, parallel=THREADED, fastmath=True, error_model="numpy")
-    return njit(cache=True, parallel=THREADED)
+        return njit(cache=True, parallel=parallel_options(), fastmath=True, error_model="numpy")
+    return njit(cache=True, parallel=parallel_options())

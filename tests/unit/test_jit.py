@@ -50,3 +50,25 @@ def test_threaded_build_on_two_threads_runs_the_serial_builds_dam_break(tmp_path
     for name in serial.dtype.names:
         scale = max(1.0, float(np.max(np.abs(serial[name]))))
         assert np.max(np.abs(serial[name] - threaded[name])) <= 1e-8 * scale, name
+
+
+def test_the_threaded_build_asks_numba_for_prange_loops_only():
+    """Each threaded loop keeps its options through every specialisation (a dict would be emptied
+    by Numba at the first compile, turning the array-expression conversions back on)."""
+    assert jit.parallel_options(threaded=False) is False
+    options = jit.parallel_options(threaded=True)
+    if options is True:
+        pytest.skip("this Numba has no ParallelOptions")
+    from numba import njit, prange
+
+    @njit(parallel=options)
+    def add_one(a):
+        for i in prange(a.shape[0]):
+            a[i] += 1.0
+
+    add_one(np.zeros(3))
+    add_one(np.zeros(3, dtype=np.float32))
+    assert len(add_one.signatures) == 2
+    kept = add_one.targetoptions["parallel"]._get_values()
+    assert kept["prange"] and kept["enabled"]
+    assert not any(kept[k] for k in ("numpy", "setitem", "comprehension", "inplace_binop", "stencil", "fusion"))
