@@ -60,6 +60,10 @@ def parallel_options(threaded=THREADED):
                             "comprehension": False, "inplace_binop": False, "stencil": False, "fusion": False})
 
 
+#: the ``parallel`` option every particle loop is compiled with (Numba copies it, never empties it)
+PARALLEL = parallel_options()
+
+
 def _serial_cache_dir():
     base = numba.config.CACHE_DIR or os.path.join(os.path.dirname(os.path.abspath(__file__)), "__pycache__")
     path = os.path.join(base, "serial-loops")
@@ -84,5 +88,5 @@ def particle_loop(fastmath=True):
     no exception), as every pair loop uses; ``fastmath=False`` is plain ``njit``.
     """
     if fastmath:
-        return njit(cache=True, parallel=parallel_options(), fastmath=True, error_model="numpy")
-    return njit(cache=True, parallel=parallel_options())
+        return njit(cache=True, parallel=PARALLEL, fastmath=True, error_model="numpy")
+    return njit(cache=True, parallel=PARALLEL)
