@@ -3,9 +3,10 @@
 Every loop over particles is decorated with :func:`particle_loop`, which is Numba's
 ``njit(parallel=...)`` with ``prange`` spreading the particles over threads (and only
 ``prange``: :func:`parallel_options`). Numba's
-parallel passes are most of the cold compile time: on the default dam break the fluid loop
-compiles in about 38 s threaded against 6 s serial, and the whole default run in 85 s
-against 25 s (docs/performance.md, "Serial loops"). ``SEAWALL_LOOPS=serial`` in the
+parallel passes are most of the cold compile time: the default dam break's cold start took
+about 120 s of CPU time threaded against 55 s serial on the project's 2-core machine, and
+about 78 s against 48 s once the switches became literals (:func:`type_constant`,
+:func:`fold_switches`; docs/performance.md, "Start-up"). ``SEAWALL_LOOPS=serial`` in the
 environment, read once at import, compiles the same loops without the parallel passes
 (``prange`` then runs as ``range``): the results are the same row by row, only one thread
 works. The test suite uses it (tests/conftest.py), which is what keeps its cold compile
@@ -21,7 +22,8 @@ import os
 import tempfile
 
 import numba
-from numba import njit
+from numba import njit, types
+from numba.extending import intrinsic
 
 LOOPS_VARIABLE = "SEAWALL_LOOPS"
 LOOP_MODES = ("threaded", "serial")
@@ -90,3 +92,38 @@ def particle_loop(fastmath=True):
     if fastmath:
         return njit(cache=True, parallel=PARALLEL, fastmath=True, error_model="numpy")
     return njit(cache=True, parallel=PARALLEL)
+
+
+def type_constant(rule):
+    """A compiled function ``f(tag)`` whose value ``rule(type of tag)`` is a compile-time literal.
+
+    seawall passes its switches (dimension, periodicity, the fluid scheme's terms) as zero-size
+    arrays whose number of axes is the value (:func:`seawall.neighbors.layout_tag`,
+    :func:`seawall.fluid.rates.scheme_tag`): one specialisation per combination. Read through a
+    function made here, the value is typed as a Numba literal, so Numba's own branch pruning
+    (its literal-propagation pass, which runs where ``isinstance`` appears in a function; see
+    :func:`fold_switches`) removes the branches a run does not take before the parallel passes
+    copy and simplify the loop body, instead of leaving them to LLVM. The result is the same;
+    the compile is shorter (docs/performance.md, "Start-up").
+    """
+    @intrinsic
+    def constant(typingctx, tag):
+        value = rule(tag)
+        literal = types.literal(value)
+
+        def codegen(context, builder, signature, args):
+            return context.get_constant(literal.literal_type, value)
+        return literal(tag), codegen
+    return constant
+
+
+@njit(cache=True, inline="always")
+def fold_switches():
+    """Inlined into a loop, makes Numba fold the literals of :func:`type_constant` into its branches.
+
+    Numba runs its literal-propagation pass (partial type inference, literal values written as
+    constants, dead-branch pruning) only on a function whose IR names the global ``isinstance``
+    or ``hasattr``; the bare name below is that mark, and does nothing at run time. Without it
+    the results are the same and the dead branches reach LLVM, which removes them later.
+    """
+    isinstance  # noqa: B018 -- the mark that asks Numba for literal propagation

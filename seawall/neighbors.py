@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit, prange
 
 from .errors import ParameterError
-from .jit import particle_loop
+from .jit import fold_switches, particle_loop, type_constant
 
 
 class CellGrid:
@@ -156,16 +156,22 @@ def layout_tag(dim, periodic):
     return np.empty((0,) * (dim + (2 if periodic else 0)))
 
 
+_layout_dim = type_constant(lambda layout: 3 if layout.ndim % 2 == 1 else 2)
+_layout_periodic = type_constant(lambda layout: layout.ndim >= 4)
+
+
 @njit(cache=True, inline="always")
 def tag_dim(layout):
-    """Spatial dimension encoded by :func:`layout_tag`."""
-    return 3 if layout.ndim % 2 == 1 else 2
+    """Spatial dimension encoded by :func:`layout_tag` (a literal: its branches are pruned)."""
+    fold_switches()
+    return _layout_dim(layout)
 
 
 @njit(cache=True, inline="always")
 def tag_periodic(layout):
-    """Whether :func:`layout_tag` marked a periodic domain."""
-    return layout.ndim >= 4
+    """Whether :func:`layout_tag` marked a periodic domain (a literal: its branches are pruned)."""
+    fold_switches()
+    return _layout_periodic(layout)
 
 
 @njit(cache=True, inline="always")

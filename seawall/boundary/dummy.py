@@ -41,6 +41,7 @@ import numpy as np
 from numba import prange
 
 from ..eos import eos_density, eos_pressure
+from ..fluid.rates import scheme_tag, tag_value
 from ..errors import ParameterError, require_nonnegative, require_positive
 from ..jit import particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
@@ -57,7 +58,7 @@ DENSITY_CALCULATORS = ("adami", "summation", "continuity", "zeroing", "mirroring
 
 @particle_loop()
 def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, lo, inv_cell, ncell, period, prm,
-                     noslip, clip_negative, pw, rhow, vw_visc):
+                     noslip, clip_negative, pw, rhow, vw_visc, scheme):
     """Adami (2012) extrapolated pressure, density and (no-slip) wall velocity of every wall particle.
 
     ``reach`` is the fluid cell list's reach mask (``CellList.reach_mask``): a wall particle in a
@@ -70,7 +71,8 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
     and the parallel walk runs over the list of the others only. A ``prange`` over all of them
     split the index range evenly between threads, but the wetted walls lie in a few index ranges,
     so one thread got most of the walks (3D dam break, 2 threads: 11.1 ms of wall time for 14.3 ms
-    of CPU time; 7.7 ms with the list, docs/performance.md).
+    of CPU time; 7.7 ms with the list, docs/performance.md). ``scheme`` is
+    :func:`~seawall.fluid.rates.scheme_tag` of ``prm``, for the kernel as a compile-time constant.
     """
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
@@ -96,6 +98,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
         b = walked[q]
         dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         periodic = tag_periodic(layout)
+        kernel = tag_value(scheme[0])
         nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -118,7 +121,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
                     d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
                     if r2 >= prm.support2:
                         continue
-                    w = kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
+                    w = kernel_shape(kernel, np.sqrt(r2) * inv_h)
                     sw += w
                     sp += (pf[f] + rhof[f] * (g0 * d0 + g1 * d1 + g2 * d2)) * w
                     if noslip:
@@ -223,7 +226,7 @@ def wall_continuity_rate(layout, xw, vw, rhow, xf, vf, mf, start, order, lo, inv
 
 
 @particle_loop()
-def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
+def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates, scheme):
     """Add the dummy wall's terms to the fluid's rates (pair terms of :mod:`seawall.pairs`).
 
     continuity:  drho_i += m_b (v_i - v_b) . grad_i W_ib, v_b the wall's own velocity
@@ -239,6 +242,8 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
                  when wall_nu > 0 ([Liu2015] eq. 9 form with the Adami wall velocity v_w = wall.v_visc)
 
     ``cells`` is the wall's CellView with its reach mask: fluid particles in other cells are skipped.
+    ``scheme`` is :func:`~seawall.fluid.rates.scheme_tag` of ``prm``: the kernel and the Riemann switch
+    are compile-time constants, as in the fluid loop.
     """
     layout = cells.layout
     xf = fluid.x
@@ -267,12 +272,13 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
     inv_h = 1.0 / prm.h
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
-    riemann = prm.riemann != 0
     rho0c0 = prm.rho0 * prm.c0
     width = 1.0 / inv_cell
     for i in prange(nf):
         dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         periodic = tag_periodic(layout)
+        kernel = tag_value(scheme[0])
+        riemann = tag_value(scheme[1]) != 0
         nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xf, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
@@ -296,7 +302,7 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates):
                     if r2 >= prm.support2 or r2 == 0.0:
                         continue
                     r = np.sqrt(r2)
-                    f = gradient_factor(prm.kernel, gradient_scale, r * inv_h)
+                    f = gradient_factor(kernel, gradient_scale, r * inv_h)
                     mb = mw[b]
                     vb0, vb1, vb2 = point_of(vw, b, dim)
                     vrb = (vi0 - vb0) * d0 + (vi1 - vb1) * d1 + (vi2 - vb2) * d2
@@ -473,7 +479,7 @@ class DummyParticles(WallModel):
             adami_wall_state(g.layout, pa["x"], pa["v"], pa["a"], fp["x"], fp["v"], fp["p"], fp["rho"],
                              cells.start, cells.order, cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, g.period,
                              prm, noslip,
-                             self.clip_negative_pressure, p_out, rho_out, pa["v_visc"])
+                             self.clip_negative_pressure, p_out, rho_out, pa["v_visc"], scheme_tag(prm))
         if self.density == "summation":
             wall_summation_density(g.layout, pa["x"], pa["m"], wall.cells.start, wall.cells.order, fp["x"],
                                    fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
@@ -492,7 +498,8 @@ class DummyParticles(WallModel):
     def interact(self, fluid, wall, ctx, dv, drho):
         dummy_wall_forces(fluid_view(fluid.particles), wall_view(wall.particles, v_visc="v_visc"),
                           cell_view(ctx.grid, wall.cells, reach=True), self._physics(ctx.physics),
-                          self.density == "mirroring", self._wall_nu, rates_bundle(fluid, ctx, dv, drho))
+                          self.density == "mirroring", self._wall_nu, rates_bundle(fluid, ctx, dv, drho),
+                          scheme_tag(self._physics(ctx.physics)))
 
     def state(self):
         """Model state that a checkpoint must keep (continuity's last evaluation time)."""

@@ -33,11 +33,13 @@ the loops run in parallel with ``prange``. Formulas and their sources:
   eta_ij = 2 eta_i eta_j / (eta_i + eta_j), eta = rho nu_edac (seawall.fluid.edac)
 """
 
+import functools
+
 import numpy as np
 from numba import njit, prange
 
 from ..eos import eos_pressure, eos_sound_speed
-from ..jit import particle_loop
+from ..jit import fold_switches, particle_loop, type_constant
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..pairs import (continuity, density_diffusion, edac_diffusion, edac_divergence, gradient_factor, kernel_value,
                      laminar_viscosity,
@@ -175,6 +177,7 @@ def renormalised_density_gradient(layout, x, rho, volume, start, order, lo, inv_
         store_renormalised_gradient(grad, i, dim, a00, a01, a02, a11, a12, a22, g0, g1, g2)
 
 
+@functools.lru_cache(maxsize=64)
 def scheme_tag(prm):
     """The fluid loop's switches (kernel, Riemann, tensile, laminar viscosity, diffusion, lagged gradient,
     XSPH, artificial viscosity and its pair rule, EDAC pressure) as compile-time constants.
@@ -184,7 +187,8 @@ def scheme_tag(prm):
     folds away every branch a run does not take. Measured (dam break, 80k particles, the loop alone,
     1 thread, CPU time): 25.5 -> 19.5 ms, of which the kernel's id 8 %; read inside the parallel body
     together with dim and periodicity, 15.9 ms (docs/architecture.md). Their values still come from
-    ``prm`` (this only says which branches exist).
+    ``prm`` (this only says which branches exist). Remembered per ``prm`` (a tuple of scalars), as the
+    wall loops ask for it every evaluation.
     """
     switches = (prm.kernel, prm.riemann != 0, prm.tensile != 0, prm.nu > 0.0, prm.diffusion,
                 prm.diffusion == DIFFUSION_RENORMALISED and prm.lagged_gradient != 0, prm.xsph > 0.0,
@@ -192,10 +196,14 @@ def scheme_tag(prm):
     return tuple(np.empty((0,) * (int(v) + 1)) for v in switches)
 
 
+_switch_value = type_constant(lambda tag: tag.ndim - 1)
+
+
 @njit(cache=True, inline="always")
 def tag_value(tag):
-    """The switch value a :func:`scheme_tag` entry encodes (a compile-time constant)."""
-    return tag.ndim - 1
+    """The switch value a :func:`scheme_tag` entry encodes (a literal: its branches are pruned)."""
+    fold_switches()
+    return _switch_value(tag)
 
 
 @particle_loop()

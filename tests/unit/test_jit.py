@@ -72,3 +72,43 @@ def test_the_threaded_build_asks_numba_for_prange_loops_only():
     kept = add_one.targetoptions["parallel"]._get_values()
     assert kept["prange"] and kept["enabled"]
     assert not any(kept[k] for k in ("numpy", "setitem", "comprehension", "inplace_binop", "stencil", "fusion"))
+
+
+def test_a_switch_read_from_its_tag_is_a_literal_whose_dead_branch_is_never_typed():
+    """The branch a tag rules out is pruned before typing (so before the parallel passes copy the loop):
+    had it survived to typing, the attribute no array has would fail the compile."""
+    from numba import njit
+
+    from seawall.fluid.rates import tag_value
+    from seawall.neighbors import layout_tag, tag_dim, tag_periodic
+
+    @njit
+    def value_or_untypable(tag):
+        if tag_value(tag) == 2:
+            return 2.0
+        return tag.no_such_attribute
+
+    @njit
+    def dim_or_untypable(layout):
+        if tag_dim(layout) == 3 and not tag_periodic(layout):
+            return 3.0
+        return layout.no_such_attribute
+
+    assert value_or_untypable(np.empty((0, 0, 0))) == 2.0
+    assert dim_or_untypable(layout_tag(3, False)) == 3.0
+
+
+def test_switch_values_read_from_tags_in_compiled_and_plain_code():
+    from numba import njit
+
+    from seawall.fluid.rates import tag_value
+    from seawall.neighbors import layout_tag, tag_dim, tag_periodic
+
+    @njit
+    def read(layout, tag):
+        return tag_dim(layout), tag_periodic(layout), tag_value(tag)
+
+    for dim in (2, 3):
+        for periodic in (False, True):
+            for value in (0, 1, 4):
+                assert read(layout_tag(dim, periodic), np.empty((0,) * (value + 1))) == (dim, periodic, value)
