@@ -856,6 +856,22 @@ def cmd_bench(args):
     return 0
 
 
+def quiet_outlined_loop_warnings():
+    """Hide Numba's "parallel=True ... no transformation for parallel execution was possible" in the CLI.
+
+    On a cold compile Numba says this of the outlined bodies of the fluid loop and the two Adami wall
+    loops (located at line 1 of their modules), three warnings of eight lines before the first step,
+    while the loops themselves run on every thread (docs/performance.md, "Start-up"). Only the command
+    line hides it: a program that imports seawall keeps Numba's warnings as they are.
+    """
+    import warnings
+
+    from numba.core.errors import NumbaPerformanceWarning
+
+    warnings.filterwarnings("ignore", message=r"(?s).*no transformation for parallel execution was possible",
+                            category=NumbaPerformanceWarning)
+
+
 def main(argv=None):
     from .errors import ParameterError
     from .interrupts import stop_on_signals
@@ -863,6 +879,7 @@ def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     args.argv = ["seawall", *(sys.argv[1:] if argv is None else argv)]
+    quiet_outlined_loop_warnings()
     args.running = {}   # the simulation of `run`, for the signal handler
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
                 "plot": cmd_plot, "compare": cmd_compare, "sweep": cmd_sweep, "new-case": cmd_new_case,

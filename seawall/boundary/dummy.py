@@ -41,8 +41,8 @@ import numpy as np
 from numba import prange
 
 from ..eos import eos_density, eos_pressure
-from ..fluid.rates import scheme_tag, tag_value
 from ..errors import ParameterError, require_nonnegative, require_positive
+from ..fluid.rates import scheme_tag, tag_value
 from ..jit import particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_fractions, cell_index, neighbour_range, point_of, reach_range, tag_dim, tag_periodic, separation
@@ -496,10 +496,11 @@ class DummyParticles(WallModel):
             pa["p"][:] = prm.p_background
 
     def interact(self, fluid, wall, ctx, dv, drho):
+        prm = self._physics(ctx.physics)
         dummy_wall_forces(fluid_view(fluid.particles), wall_view(wall.particles, v_visc="v_visc"),
-                          cell_view(ctx.grid, wall.cells, reach=True), self._physics(ctx.physics),
+                          cell_view(ctx.grid, wall.cells, reach=True), prm,
                           self.density == "mirroring", self._wall_nu, rates_bundle(fluid, ctx, dv, drho),
-                          scheme_tag(self._physics(ctx.physics)))
+                          scheme_tag(prm))
 
     def state(self):
         """Model state that a checkpoint must keep (continuity's last evaluation time)."""
