@@ -539,7 +539,7 @@ class Simulation(Runner):
             # renormalised_density_gradient (about a tenth of its compile time)
             fp["grad_rho"][:] = 0.0
             fluid_rates(fluid_view(fp), cell_view(g, cells), fp["grad_rho"], prm, ctx.rates, fp["grad_rho_next"],
-                        self._scheme(prm), fp["dp"] if prm.edac else self._empty_scalar)
+                        scheme_tag(prm), fp["dp"] if prm.edac else self._empty_scalar)
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
             grad = fp["grad_rho"]
         elif prm.diffusion == DIFFUSION_RENORMALISED and not lagged:
@@ -552,7 +552,7 @@ class Simulation(Runner):
         else:
             grad = self._empty_grad
         fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, ctx.rates,
-                    fp["grad_rho_next"] if lagged else self._empty_grad, self._scheme(prm),
+                    fp["grad_rho_next"] if lagged else self._empty_grad, scheme_tag(prm),
                     fp["dp"] if prm.edac else self._empty_scalar)
         if lagged:
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
@@ -585,13 +585,6 @@ class Simulation(Runner):
     def _owned_rows(self):
         """Fluid rows this process owns: every row (a decomposed run keeps halo copies after them)."""
         return self.fluid.particles.n
-
-    def _scheme(self, prm):
-        """fluid_rates' compile-time switches for ``prm`` (rebuilt only when the physics object changes)."""
-        if getattr(self, "_scheme_physics", None) is not prm:
-            self._scheme_tag = scheme_tag(prm)
-            self._scheme_physics = prm
-        return self._scheme_tag
 
     def record_particle_forces_now(self):
         """Record the per-particle wall forces of the last evaluation's state, if no step has moved
