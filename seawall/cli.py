@@ -410,7 +410,7 @@ def cmd_run(args):
     rundir.check_out_path(args.out)
     case, sim = _build(args)
     comm = _mpi(sim, args)
-    record = provenance(args.argv)   # after the build: --threads is applied there
+    record = provenance(args.argv)   # after the build: --threads is taken there
     args.running["sim"] = sim
     t_end = args.t_end or case.t_end
     out = args.out or os.path.join("runs", f"{case.name}-{args.boundary}")

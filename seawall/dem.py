@@ -35,7 +35,7 @@ import numpy as np
 from numba import njit, prange
 
 from .errors import InstabilityError, ParameterError, require_positive
-from .jit import particle_loop
+from .jit import apply_threads, particle_loop
 from .neighbors import CellGrid, cell_index, layout_tag, neighbour_range, point_of, separation, tag_dim
 from .output import VTK, Checkpoint
 from .particles import ParticleArrays
@@ -314,6 +314,7 @@ class DEMSimulation(Runner):
     OUTPUT_TYPES = (VTK, Checkpoint)   # no fluid for a LineSampler to sample
 
     def _initialise(self):
+        apply_threads()   # a case file's threads (seawall.cases.files), asked for before the run
         # accelerations are those of the current state from construction (or from the checkpoint)
         if self.next_dt is None:
             self.next_dt = self.dt

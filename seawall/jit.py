@@ -83,15 +83,66 @@ if not THREADED:
     numba.config.CACHE_DIR = _serial_cache_dir()
 
 
+# the count a Simulation asked for, held until its run starts (None: Numba's own)
+_requested_threads = [None]
+
+
+def use_threads(threads):
+    """Ask for ``threads`` threads of the compiled loops (None: leave Numba's count).
+
+    Applied now if Numba's thread pool runs already, else when :func:`apply_threads` is called
+    at the start of a run: setting the count starts the pool, and a process whose pool runs
+    can no longer fork a compile helper (:mod:`seawall.compile_ahead`).
+    """
+    _requested_threads[0] = None if threads is None else int(threads)
+    if threads is not None and _pool_started():
+        numba.set_num_threads(int(threads))
+
+
+def apply_threads():
+    """Set the thread count asked for by :func:`use_threads`, if any (starts Numba's pool)."""
+    if _requested_threads[0] is not None:
+        numba.set_num_threads(_requested_threads[0])
+
+
+def thread_count():
+    """The threads the compiled loops use, or will use once the pool starts; does not start it."""
+    if _pool_started():
+        return int(numba.get_num_threads())
+    if _requested_threads[0] is not None:
+        return _requested_threads[0]
+    return int(numba.config.NUMBA_NUM_THREADS)
+
+
+def _pool_started():
+    from numba.np.ufunc import parallel
+
+    return bool(parallel._is_initialized)
+
+
+#: every particle loop: what a compile helper's rehearsal records instead of running (:mod:`seawall.compile_ahead`)
+PARTICLE_LOOPS = set()
+
+
 def particle_loop(fastmath=True):
     """Decorator of a compiled loop over particles (``prange``), threaded unless ``SEAWALL_LOOPS=serial``.
 
     ``fastmath=True`` also selects NumPy's error model (a division by zero gives inf or nan,
     no exception), as every pair loop uses; ``fastmath=False`` is plain ``njit``.
+    A particle loop writes values into arrays it is given and returns nothing: Python code
+    never steers by what it computes (the cell list, which does, is a serial loop), which is
+    what lets a compile helper skip it in its rehearsal (:mod:`seawall.compile_ahead`).
     """
     if fastmath:
-        return njit(cache=True, parallel=PARALLEL, fastmath=True, error_model="numpy")
-    return njit(cache=True, parallel=PARALLEL)
+        jit = njit(cache=True, parallel=PARALLEL, fastmath=True, error_model="numpy")
+    else:
+        jit = njit(cache=True, parallel=PARALLEL)
+
+    def decorate(func):
+        dispatcher = jit(func)
+        PARTICLE_LOOPS.add(dispatcher)
+        return dispatcher
+    return decorate
 
 
 def type_constant(rule):

@@ -44,7 +44,7 @@ def provenance(argv=None):
     import numpy
 
     from . import __version__
-    from .jit import THREADED
+    from .jit import THREADED, thread_count
 
     commit, dirty = git_commit()
     return {
@@ -52,7 +52,7 @@ def provenance(argv=None):
         "git_commit": commit,
         "git_modified": dirty,
         "command_line": list(sys.argv if argv is None else argv),
-        "threads": int(numba.get_num_threads()),
+        "threads": thread_count(),
         "loops": "threaded" if THREADED else "serial",
         "python": platform.python_version(),
         "numba": numba.__version__,

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from . import compile_ahead
 from .errors import InstabilityError, OutputError, ParameterError, RunInterrupted, require_positive
 from .output import VTK, Checkpoint
 from .probes import Probe
@@ -205,6 +206,9 @@ class Runner:
             self._check_health()
             raise InstabilityError(f"time step became {self.next_dt} at step {self.step}, t = {self.time:.6g} s",
                                    step=self.step, time=self.time)
+        # every loop of a step is compiled now: a compile helper still running compiles what no step
+        # needs, and would take a core from the run
+        compile_ahead.finish()
 
     def run_steps(self, n_steps: int) -> None:
         """Advance exactly ``n_steps`` steps with no probes or output (benchmarks)."""

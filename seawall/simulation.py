@@ -20,6 +20,7 @@ import numpy as np
 
 from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem, check_contract
+from . import compile_ahead
 from .coupling import Coupling
 from .boundary.particle_forces import defines_particle_forces, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
@@ -33,6 +34,7 @@ from .fluid.system import FluidSystem
 from .health import (DAMAGE, KEEP, UNSTABLE, WALL, _DENSITY, classify_particles, derive_hull, parse_guard_settings,
                      parse_hull, reason_name, wall_depth_codes, walls_top)
 from .integrators import Integrator, Symplectic
+from .jit import PARTICLE_LOOPS, apply_threads, use_threads
 from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
@@ -83,7 +85,8 @@ class Simulation(Runner):
         ``unstable`` within the last ``unstable_window`` seconds (default
         0.05) exceed ``unstable_fraction`` (default 0.001) of the fluid.
     threads : int, optional
-        Number of threads of the compiled loops (default: all cores).
+        Number of threads of the compiled loops (default: all cores); set when the first run
+        starts (``seawall.jit.use_threads``), not at construction.
     """
 
     def __init__(self, systems: Sequence[FluidSystem | WallSystem | Coupling], *, kernel: Kernel | None = None,
@@ -148,7 +151,7 @@ class Simulation(Runner):
             if not 1 <= threads <= numba.config.NUMBA_NUM_THREADS:
                 raise ParameterError(
                     f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS}, got {threads}")
-            numba.set_num_threads(threads)
+            use_threads(threads)   # set when the first run starts, after a compile helper is forked
         self.metadata = dict(metadata or {})
         #: what the case compares against (set by cases; used by seawall compare)
         self.reference = None
@@ -711,7 +714,13 @@ class Simulation(Runner):
             step=self.step, time=self.time, particle_id=pid, position=pos, checkpoint=checkpoint)
 
     # ------------------------------------------------------------------ running
+    #: whether the first run of a process may fork a compile helper (seawall.compile_ahead)
+    compile_helper = True
+
     def _initialise(self):
+        if not self._rates_ready and self.compile_helper:
+            compile_ahead.start(self._rehearsal(), PARTICLE_LOOPS)
+        apply_threads()
         # a state given or edited before this run is screened as after a step (a no-op after a restart)
         self._check_health()
         if not self._rates_ready:
@@ -719,6 +728,30 @@ class Simulation(Runner):
             self.evaluate(self.time)
             self._rates_ready = True
             self.next_dt = self.integrator.time_step(self.fluid, self.physics)
+
+    def _rehearsal(self):
+        """The start of a run as a compile helper rehearses it in its forked copy (seawall.compile_ahead).
+
+        Stages: the first rates, the probes' read-out, one step. The particle loops are skipped
+        there, so values computed from their outputs are meaningless (a sound speed of zero
+        makes the time step fail); each stage is therefore tried on its own. Nothing is
+        written: the copy's outputs are dropped first.
+        """
+        def rates():
+            self.outputs = []
+            self.probe_csv = None
+            self._initialise()
+
+        def probes():
+            if self.probes:
+                self._prepare_probes()
+                for probe in self.probes:
+                    self._sample_probe(probe)
+
+        def step():
+            dt = getattr(self, "next_dt", None)
+            self._one_step(dt if dt is not None and math.isfinite(dt) and dt > 0 else 1e-6)
+        return rates, probes, step
 
     def _prepare_probes(self):
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])

@@ -12,6 +12,9 @@ import os
 # threaded build's cold compile. tests/unit/test_jit.py runs the threaded build against it.
 # Set here, before any test imports seawall; SEAWALL_LOOPS=threaded runs the suite threaded.
 os.environ.setdefault("SEAWALL_LOOPS", "serial")
+# No compile helper (seawall.compile_ahead): the suite's two worker processes fill both cores
+# already; tests/unit/test_compile_ahead.py turns it on where it tests it.
+os.environ.setdefault("SEAWALL_COMPILE_AHEAD", "0")
 
 import pytest  # noqa: E402
 

@@ -161,9 +161,9 @@ def _case_from_module(path):
         if not isinstance(sim, Runner):
             raise _fail(path, f"build() returned {type(sim).__name__}, not a seawall.Simulation")
         if threads is not None and not pass_threads:
-            import numba
+            from ..jit import use_threads
 
-            numba.set_num_threads(int(threads))
+            use_threads(int(threads))   # applied when the run starts (seawall.compile_ahead)
         return sim
 
     doc = (module.__doc__ or "").strip().splitlines()

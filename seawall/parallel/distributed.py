@@ -227,6 +227,9 @@ def _alltoallv(comm, blocks, width, recv_counts=None):
 class DistributedSimulation:
     """Mixed in before :class:`~seawall.simulation.Simulation` by :func:`distribute`."""
 
+    # every rank compiles for itself: forking an MPI process is not safe
+    compile_helper = False
+
     def _mpi_setup(self, comm, argv):
         self.comm = comm
         self.rank = comm.Get_rank()
