@@ -20,7 +20,10 @@ loads it from there, which takes a fraction of a second. Neither process ever wa
 holds an unfinished claim (a compile never waits on the other process), so they cannot wait on
 each other; and each gives up waiting when the other has ended, compiling for itself. The run's
 results do not change: the machine code loaded from the cache is the code the run would have
-compiled. The helper writes no output and ends when its list is done or the run ends.
+compiled. The helper writes no output and ends when its list is done, or is stopped when the
+run has finished its first step (everything a step calls is compiled then) or ends. Its copy of
+the state shares the run's memory until one of them writes; the rehearsal may reorder the
+particles, so while it lives it can hold one more copy of the particle arrays.
 
 The fork must come before Numba starts its thread pool (GNU OpenMP, Numba's default layer on
 Linux, ends a process forked from one that uses it): a :class:`~seawall.simulation.Simulation`
