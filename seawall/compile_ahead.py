@@ -186,6 +186,8 @@ def _helper(session, rehearsal, loops):
         except Exception:        # a stage cut short still leaves what it recorded
             pass
     for dispatcher, signature in reversed(recorded):
+        if not session.other_alive():
+            break                 # the run has ended
         if dispatcher.overloads.get(signature) is not None:
             continue
         key = _key(dispatcher, signature)

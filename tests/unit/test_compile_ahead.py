@@ -100,6 +100,27 @@ def test_a_helper_that_dies_leaves_the_run_to_compile_for_itself(tmp_path):
     assert [h + m for h, m in zip(result["hits"], result["misses"])] == [1, 1, 1, 1]
 
 
+def test_no_particle_loop_returns_a_value():
+    """What lets the rehearsal skip a particle loop: the Python code never reads a result of one."""
+    import ast
+    import importlib
+    import inspect
+    import pkgutil
+
+    import seawall
+    from seawall.jit import PARTICLE_LOOPS
+
+    for module in pkgutil.walk_packages(seawall.__path__, "seawall."):
+        if module.name != "seawall.__main__":
+            importlib.import_module(module.name)
+
+    assert len(PARTICLE_LOOPS) > 30
+    for dispatcher in PARTICLE_LOOPS:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(dispatcher.py_func)))
+        returns = [node for node in ast.walk(tree) if isinstance(node, ast.Return) and node.value is not None]
+        assert not returns, dispatcher.py_func.__qualname__
+
+
 def test_the_switch_names_its_variable_and_the_suite_runs_without_a_helper():
     assert not compile_ahead.enabled({compile_ahead.ENV_VARIABLE: "0"})
     with pytest.raises(ValueError, match=compile_ahead.ENV_VARIABLE):
