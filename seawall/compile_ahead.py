@@ -87,6 +87,11 @@ def _is_seawall(dispatcher):
     return getattr(dispatcher.py_func, "__module__", "").startswith("seawall")
 
 
+def _signature(dispatcher, args):
+    """The argument types Numba would compile ``dispatcher`` for, called with ``args``."""
+    return tuple(dispatcher.typeof_pyval(a) for a in args)
+
+
 def _key(dispatcher, signature):
     func = dispatcher.py_func
     text = f"{func.__module__}.{func.__qualname__}|{signature}"
@@ -136,7 +141,7 @@ class _Session:
 
     def compile_claimed(self, dispatcher, args):
         """``Dispatcher._compile_for_args`` under the claims: compile here, or load what the other compiled."""
-        signature = tuple(dispatcher.typeof_pyval(a) for a in args)
+        signature = _signature(dispatcher, args)
         if dispatcher.overloads.get(signature) is not None:
             return _original_compile_for_args(dispatcher, *args)
         key = _key(dispatcher, signature)
@@ -173,7 +178,7 @@ def _helper(session, rehearsal, loops):
 
     def hook(dispatcher, args):
         if dispatcher in loops:
-            signature = tuple(dispatcher.typeof_pyval(a) for a in args)
+            signature = _signature(dispatcher, args)
             if all(dispatcher is not d or signature != s for d, s in recorded):
                 recorded.append((dispatcher, signature))
             return _noop          # recorded, neither compiled nor run: the state stays as it was

@@ -88,15 +88,15 @@ _requested_threads = [None]
 
 
 def use_threads(threads):
-    """Ask for ``threads`` threads of the compiled loops (None: leave Numba's count).
+    """Ask for ``threads`` threads of the compiled loops.
 
     Applied now if Numba's thread pool runs already, else when :func:`apply_threads` is called
     at the start of a run: setting the count starts the pool, and a process whose pool runs
     can no longer fork a compile helper (:mod:`seawall.compile_ahead`).
     """
-    _requested_threads[0] = None if threads is None else int(threads)
-    if threads is not None and _pool_started():
-        numba.set_num_threads(int(threads))
+    _requested_threads[0] = int(threads)
+    if _pool_started():
+        numba.set_num_threads(_requested_threads[0])
 
 
 def apply_threads():

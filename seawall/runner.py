@@ -129,6 +129,11 @@ class Runner:
         """One probe's value now (a decomposed run combines the ranks' values here)."""
         return probe.sample(self)
 
+    def _probe_row(self):
+        """Every probe's value now, in order (derived fields brought up to date first)."""
+        self._prepare_probes()
+        return [self._sample_probe(p) for p in self.probes]
+
     def _adopt_output(self, out):
         """The output object to keep for ``out`` (a subclass may substitute its own writer)."""
         return out
@@ -183,8 +188,7 @@ class Runner:
             return
         if not force and self.time < self._next_probe - 1e-12:
             return
-        self._prepare_probes()
-        row = [self._sample_probe(p) for p in self.probes]
+        row = self._probe_row()
         self.probe_times.append(self.time)
         self.probe_values.append(row)
         if self.probe_csv is not None:

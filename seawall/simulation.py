@@ -744,9 +744,7 @@ class Simulation(Runner):
 
         def probes():
             if self.probes:
-                self._prepare_probes()
-                for probe in self.probes:
-                    self._sample_probe(probe)
+                self._probe_row()
 
         def step():
             dt = getattr(self, "next_dt", None)
