@@ -32,10 +32,10 @@ import math
 import os
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from .errors import InstabilityError, ParameterError, require_positive
-from .jit import apply_threads, particle_loop
+from .jit import apply_threads, loop_helper, particle_loop
 from .neighbors import CellGrid, cell_index, layout_tag, neighbour_range, point_of, separation, tag_dim
 from .output import VTK, Checkpoint
 from .particles import ParticleArrays
@@ -62,7 +62,7 @@ def contact_time(stiffness, reduced_mass, zeta):
     return math.pi / (math.sqrt(stiffness / reduced_mass) * math.sqrt(1.0 - zeta * zeta))
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def pair_force(delta, vn, k, zeta, m_eff):
     """Magnitude along n of the spring-dashpot force: k delta - 2 zeta sqrt(k m*) v_n."""
     return k * delta - 2.0 * zeta * math.sqrt(k * m_eff) * vn

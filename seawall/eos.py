@@ -13,15 +13,15 @@ Compiled code calls :func:`eos_pressure`, :func:`eos_density` and
 import math
 
 import numpy as np
-from numba import njit
 
 from .errors import ParameterError, require_positive
+from .jit import loop_helper
 
 TAIT = 0
 LINEAR = 1
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def eos_pressure(kind, rho, rho0, c0, gamma, p_background):
     """Pressure from density ([Li2022] eq. 9 for Tait, [Huang2019] for linear)."""
     if kind == TAIT:
@@ -30,7 +30,7 @@ def eos_pressure(kind, rho, rho0, c0, gamma, p_background):
     return c0 * c0 * (rho - rho0) + p_background
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def eos_density(kind, p, rho0, c0, gamma, p_background):
     """Inverse of :func:`eos_pressure`.
 
@@ -47,7 +47,7 @@ def eos_density(kind, p, rho0, c0, gamma, p_background):
     return rho0 + (p - p_background) / (c0 * c0)
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def eos_sound_speed(kind, rho, rho0, c0, gamma):
     """Local sound speed c = sqrt(dp/drho): c0 (rho/rho0)^((gamma-1)/2) for Tait, c0 for linear."""
     if kind == TAIT:

@@ -145,6 +145,26 @@ def particle_loop(fastmath=True):
     return decorate
 
 
+def loop_helper(func):
+    """Decorator of the small functions the compiled loops call: pair terms, cell arithmetic, equations of state.
+
+    Each is compiled once, with the pair loops' options (``fastmath``, NumPy's error model), and
+    LLVM inlines it into every loop that calls it (none is left as a call in the default run's
+    loops). Numba's own ``inline="always"`` pastes a function's IR into each caller instead,
+    where each of Numba's passes over the loop -- type inference twice, the parallel passes'
+    copy propagation and simplification, the lowering -- works through it again: the default
+    dam break's cold compile took 32-35 s of CPU with them inlined by Numba and 27 s so
+    (docs/performance.md, "Start-up", eighth pass), with ``probes.csv`` unchanged bit for bit.
+    The functions that branch on a compile-time switch (:func:`type_constant`: the kernel, the
+    dimension, periodicity) stay ``inline="always"``, so that Numba folds the switch first.
+    A serial caller without ``fastmath`` gets these with ``fastmath`` too.
+    """
+    return _LOOP_HELPER(func)
+
+
+_LOOP_HELPER = njit(cache=True, fastmath=True, error_model="numpy")
+
+
 def type_constant(rule):
     """A compiled function ``f(tag)`` whose value ``rule(type of tag)`` is a compile-time literal.
 

@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from .errors import ParameterError
-from .jit import fold_switches, type_constant
+from .jit import fold_switches, loop_helper, type_constant
 
 
 class CellGrid:
@@ -174,7 +174,7 @@ def tag_periodic(layout):
     return _layout_periodic(layout)
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def cell_index(x0, x1, x2, lo, inv_cell, ncell):
     """Integer cell coordinates of a point, clamped into the grid."""
     cx = int((x0 - lo[0]) * inv_cell[0])
@@ -186,7 +186,7 @@ def cell_index(x0, x1, x2, lo, inv_cell, ncell):
     return cx, cy, cz
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def neighbour_cell(cx, cy, cz, ox, oy, oz, ncell, period):
     """Flat index of the cell at offset (ox, oy, oz), or -1 outside a non-periodic grid."""
     nx = cx + ox
@@ -207,7 +207,7 @@ def neighbour_cell(cx, cy, cz, ox, oy, oz, ncell, period):
     return nx + ncell[0] * (ny + ncell[1] * nz)
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def neighbour_range(row, part, cx, cy, cz, ncell, period, start):
     """Slice [ka, kb) of the sorted particles in one row of the neighbouring cells.
 
@@ -250,13 +250,13 @@ def neighbour_range(row, part, cx, cy, cz, ncell, period, start):
     return start[base + xl], start[base + xr + 1]
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell):
     """Where a point lies in its cell (cx, cy, cz), in cell widths per axis (0 ... 1 inside the grid)."""
     return (p0 - lo[0]) * inv_cell[0] - cx, (p1 - lo[1]) * inv_cell[1] - cy, (p2 - lo[2]) * inv_cell[2] - cz
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def _gap(offset, frac, width):
     """Distance from a point at ``frac`` of its cell to the cell ``offset`` cells away, along one axis [m].
 
@@ -269,6 +269,20 @@ def _gap(offset, frac, width):
         return 0.0
     g = offset - frac if offset > 0 else frac - offset - 1.0
     return max(g - 1e-9, 0.0) * width
+
+
+@loop_helper
+def _cells_reached(side, frac, width, left):
+    """How many of the cells 1 and 2 steps along x towards ``side`` (-1 or +1) are within reach: 0, 1 or 2.
+
+    A cell is within reach when its gap squared is below ``left``; the gap to the second is never
+    below the gap to the first, so the second is looked at only when the first is within reach.
+    """
+    g = _gap(side, frac, width)
+    if g * g >= left:
+        return 0
+    g = _gap(2 * side, frac, width)
+    return 2 if g * g < left else 1
 
 
 @njit(cache=True, inline="always")
@@ -285,37 +299,23 @@ def reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, reach2):
     support (two cell widths) touches; in 2D the 25 cells about 22.
     """
     oy = row % 5 - 2
-    oz = row // 5 - 2 if ncell[2] > 1 else 0
+    oz = (row // 5 - 2) * min(ncell[2] - 1, 1)    # rows off the plane only in 3D (ncell[2] > 1)
     ny = cy + oy
     nz = cz + oz
-    if ny < 0 or ny >= ncell[1] or nz < 0 or nz >= ncell[2]:
+    if not ((ny >= 0) & (ny < ncell[1]) & (nz >= 0) & (nz < ncell[2])):
         return 0, 0
     gy = _gap(oy, fy, width[1])
     gz = _gap(oz, fz, width[2])
     left = reach2 - gy * gy - gz * gz
     if left <= 0.0:
         return 0, 0
-    xl = cx
-    g = _gap(-1, fx, width[0])
-    if g * g < left:
-        xl = cx - 1
-        g = _gap(-2, fx, width[0])
-        if g * g < left:
-            xl = cx - 2
-    xr = cx
-    g = _gap(1, fx, width[0])
-    if g * g < left:
-        xr = cx + 1
-        g = _gap(2, fx, width[0])
-        if g * g < left:
-            xr = cx + 2
-    xl = max(xl, 0)
-    xr = min(xr, ncell[0] - 1)
+    xl = max(cx - _cells_reached(-1, fx, width[0], left), 0)
+    xr = min(cx + _cells_reached(1, fx, width[0], left), ncell[0] - 1)
     base = ncell[0] * (ny + ncell[1] * nz)
     return start[base + xl], start[base + xr + 1]
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def minimum_image(d, period_k):
     """Shortest periodic image of a coordinate difference (identity if not periodic)."""
     if period_k > 0.0:
@@ -381,7 +381,7 @@ def fill_cell_list(x, lo, inv_cell, ncell, start, order, cell):
     start[0] = 0
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def _wrapped(k, n, period_k):
     """Cell index ``k`` on an axis of ``n`` cells, wrapped if the axis is periodic; -1 off a bounded axis."""
     if 0 <= k < n:

@@ -3,9 +3,11 @@
 The fluid loop (:mod:`seawall.fluid.rates`) and every wall model's loop
 (:mod:`seawall.boundary`) call these instead of re-typing the formulas; a wall
 model says which of them act across its wall (``WallModel.fluid_terms``).
-Each function is ``inline="always"``: Numba pastes its body into the caller
-before optimising, so a call costs nothing over the hand-written expression
-(measured: the loops compile to the same results bit for bit, docs/architecture.md).
+Each is a :func:`~seawall.jit.loop_helper`: compiled once and inlined into the
+loops by LLVM, so a call costs nothing over the hand-written expression (the loops
+give the same results bit for bit, docs/architecture.md). The few that branch on a
+compile-time switch (the kernel, ``viscosity_acts``, ``density_diffusion``) are
+``inline="always"`` instead, so that Numba folds the switch before optimising.
 
 Conventions: i is the particle whose rates are summed, j its neighbour (a
 fluid or wall particle), r_ij = r_i - r_j, v_ij = v_i - v_j, and the kernel
@@ -16,6 +18,7 @@ The arithmetic order of each expression is the one the loops had before
 
 from numba import njit
 
+from .jit import loop_helper
 from .kernels import kernel_gradient_factor, kernel_shape
 
 # names of the fluid's pair terms; WallModel.fluid_terms is a set of these
@@ -52,20 +55,20 @@ def kernel_value(kind, sigma, q):
 
 
 # ---------------------------------------------------------------- continuity
-@njit(cache=True, inline="always")
+@loop_helper
 def continuity(m_j, vr, f):
     """m_j v_ij . grad_i W_ij, with vr = v_ij . r_ij and f the gradient factor ([Li2022] eq. 8)."""
     return m_j * vr * f
 
 
 # ---------------------------------------------------------------- momentum
-@njit(cache=True, inline="always")
+@loop_helper
 def tensile_coefficient(p, rho):
     """R = eps p / rho^2, eps = 0.01 for p > 0 and -0.2 otherwise ([Li2022] eq. 20; Monaghan 2000)."""
     return (0.01 if p > 0.0 else -0.2) * p / (rho * rho)
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def tensile_term(r_i, r_j, w_ratio):
     """(R_i + R_j) (W_ij / W(dx))^4, added to p_i/rho_i^2 + p_j/rho_j^2 ([Li2022] eq. 20)."""
     w2 = w_ratio * w_ratio
@@ -79,21 +82,21 @@ def viscosity_acts(vr, all_pairs):
     return all_pairs != 0 or vr < 0.0
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def monaghan_viscosity(alpha, beta, mu, c_ab, rho_ab):
     """Pi_ij = (-alpha c_ij mu_ij + beta mu_ij^2) / rho_ij, mu_ij = h v_ij . r_ij / (r_ij^2 + eta^2)
     (Monaghan 1992; [Li2022] eq. 6). The caller checks :func:`viscosity_acts`."""
     return (-alpha * c_ab * mu + beta * mu * mu) / rho_ab
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def pressure_acceleration(m_j, coef, f):
     """s with dv_i += s r_ij for -m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij ([Li2022] eq. 5);
     ``coef`` is the bracket."""
     return -m_j * coef * f
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def laminar_viscosity(m_j, nu, rho_i, rho_j, f, r2, eta2):
     """lam with dv_i += lam v_ij: the Morris et al. (1997) term as written in [Liu2015] eq. 9,
 
@@ -103,7 +106,7 @@ def laminar_viscosity(m_j, nu, rho_i, rho_j, f, r2, eta2):
 
 
 # ---------------------------------------------------------------- Riemann formulation
-@njit(cache=True, inline="always")
+@loop_helper
 def riemann_pressure(p_i, p_j, du, rho0c0, c0, eta):
     """Interface pressure P* of the linearised Riemann problem between i (left) and j (right) with the
     low-dissipation limiter ([Zhang2017] sec. 3.1-3.2):
@@ -119,13 +122,13 @@ def riemann_pressure(p_i, p_j, du, rho0c0, c0, eta):
     return 0.5 * (p_i + p_j) + 0.5 * beta * rho0c0 * du
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def riemann_fluid_jump(vr, r):
     """U_L - U_R = (v_i - v_j) . e, e = r_ji / r the direction from i to j: -v_ij . r_ij / r ([Zhang2017] sec. 3.1)."""
     return -vr / r
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def riemann_wall_jump(vn):
     """U_L - U_R against a wall particle with the mirrored right state of [Zhang2017] (wall section):
     U_R = -U_L + 2 u_w along the wall normal, so U_L - U_R = -2 (v_i - v_w) . n, ``vn`` = (v_i - v_w) . n
@@ -134,14 +137,14 @@ def riemann_wall_jump(vn):
     return -2.0 * vn
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def riemann_momentum_coefficient(p_star, rho_i, rho_j):
     """The bracket of :func:`pressure_acceleration` for the Riemann momentum equation
     dv_i/dt = -sum_j 2 m_j P* / (rho_i rho_j) grad_i W_ij ([Zhang2017] sec. 3.1)."""
     return 2.0 * p_star / (rho_i * rho_j)
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def riemann_continuity(rho_i, vol_j, vr, p_i, p_j, r, rho0c0, f):
     """drho_i/dt term 2 rho_i V_j (v_i - v*) . grad_i W_ij of [Zhang2017] sec. 3.1, with the
     interface velocity v* = (v_i + v_j)/2 + (U* - (U_L + U_R)/2) e of the linearised Riemann
@@ -168,7 +171,7 @@ def density_diffusion(coef, vol_j, rho_i, rho_j, f, renormalised, g_dot_r):
 
 
 # ---------------------------------------------------------------- XSPH
-@njit(cache=True, inline="always")
+@loop_helper
 def xsph_weight(w, m_j, rho_i, rho_j):
     """m_j W_ij / rho_ij with rho_ij = (rho_i + rho_j)/2; dx_i/dt gets eps * weight * (v_j - v_i)
     ([Li2022] eq. 10, Monaghan 1989)."""
@@ -176,7 +179,7 @@ def xsph_weight(w, m_j, rho_i, rho_j):
 
 
 # ---------------------------------------------------------------- EDAC pressure equation
-@njit(cache=True, inline="always")
+@loop_helper
 def edac_divergence(c2, rho_i, vol_j, vr, f):
     """The compressibility term of the EDAC pressure equation, -rho_i c^2 (div v)_i, for one pair
     ([Ramachandran2019] sec. 3, the pressure equation; the divergence in the difference form
@@ -188,7 +191,7 @@ def edac_divergence(c2, rho_i, vol_j, vr, f):
     return c2 * rho_i * vol_j * vr * f
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def edac_diffusion(vol_i, vol_j, inv_m_i, rho_i, rho_j, nu, p_i, p_j, f, r2, eta2):
     """The damping term nu_edac lap(p) of the EDAC pressure equation for one pair ([Ramachandran2019]
     sec. 3; the Laplacian in the form of [Morris1997] / [Adami2013] that the paper uses for its viscous
@@ -203,7 +206,7 @@ def edac_diffusion(vol_i, vol_j, inv_m_i, rho_i, rho_j, nu, p_i, p_j, f, r2, eta
     return (vol_i * vol_i + vol_j * vol_j) * inv_m_i * eta_ij * (p_i - p_j) * f * r2 / (r2 + eta2)
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def edac_pressure_advection(vol_j, p_i, p_j, f, tr):
     """The transport-velocity term of the EDAC pressure equation for one pair: the pressure followed along
     the transport velocity v~ instead of v ([Ramachandran2019] sec. 3, the EDAC-TVF pressure equation,

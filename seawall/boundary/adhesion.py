@@ -28,14 +28,14 @@ resolutions; [TrixiBoundary]'s default is 0 (no adhesion).
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
-from ..jit import particle_loop
+from ..jit import loop_helper, particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..views import cell_view
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def adhesion_kernel(r, s):
     """C(r) of Akinci et al. (2013), eq. 7, with s the kernel support radius."""
     if r <= 0.5 * s or r > s:

@@ -59,7 +59,7 @@ from numba import njit, prange
 
 from ..eos import eos_density, eos_sound_speed
 from ..errors import ParameterError, require_nonnegative
-from ..jit import particle_loop
+from ..jit import loop_helper, particle_loop
 from ..kernels import CUBIC_SPLINE, kernel_shape, kernel_shape_dq
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic
 from ..pairs import (continuity, monaghan_viscosity, pressure_acceleration, tensile_coefficient, tensile_term,
@@ -74,7 +74,7 @@ WALL_DENSITY_MODES = ("continuity", "consistent")
 _EDGE_TOL = 1e-9
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def expanded_pressure(rho, rho0, c0, order, p_background):
     """Tait EOS (gamma = 7) expanded to ``order`` terms ([Li2022] eq. 21); order 1 is eq. 12."""
     lam = (rho - rho0) / rho0
@@ -84,7 +84,7 @@ def expanded_pressure(rho, rho0, c0, order, p_background):
     return c0 * c0 * rho0 * lam * f + p_background
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def _window(s, half):
     """Top-hat weight of the rectangle along one tangential axis (edge counts 1/2)."""
     a = abs(s)

@@ -64,7 +64,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError, require_positive
-from ..jit import particle_loop
+from ..jit import loop_helper, particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..neighbors import cell_index, minimum_image, neighbour_range, point_of, tag_dim, tag_periodic, separation
 
@@ -81,7 +81,7 @@ SHEPARD_WEIGHT_FLOOR = 1e-290
 
 
 # ---------------------------------------------------------------- helpers
-@njit(cache=True, inline="always")
+@loop_helper
 def shepard_beta(q, lam):
     """beta(q) = exp(-q^2 / (1 - q^lambda)) for 0 <= q < 1, else 0 ([Huang2019] eq. 20, q = r/R)."""
     if q >= 1.0:
@@ -89,7 +89,7 @@ def shepard_beta(q, lam):
     return math.exp(-q * q / (1.0 - q ** lam))
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def shepard_weight_q2(q2, mu, lam):
     """phi^mu from q^2: (beta/q)^mu = exp(-mu q^2 / (1 - q^lambda)) q^-mu, one exp and
     (for the defaults lambda = 2, mu = 4) no pow."""
@@ -100,7 +100,7 @@ def shepard_weight_q2(q2, mu, lam):
     return math.exp(-mu * q2 / (1.0 - ql)) / qm
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def shepard_weight(q, mu, lam):
     """Unnormalised improved Shepard weight phi(q)^mu, phi = beta(q)/q ([Huang2019] eq. 19-20)."""
     return shepard_weight_q2(q * q, mu, lam)

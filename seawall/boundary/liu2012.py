@@ -24,16 +24,16 @@ wall term (free slip), as in [Liu2015]'s dam break.
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..errors import require_positive
-from ..jit import particle_loop
+from ..jit import loop_helper, particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..views import cell_view
 from .base import WallModel
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def liu2012_shape(eta):
     """f(eta) of Liu et al. (2012): 2/3, 2 eta - 1.5 eta^2, 0.5 (2 - eta)^2 on (0, 2/3], (2/3, 1], (1, 2)."""
     if eta <= 2.0 / 3.0:
@@ -45,7 +45,7 @@ def liu2012_shape(eta):
     return 0.0
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def liu2012_factor(r, h, dd, c):
     """The scalar s with (dv_i/dt)_b = s r_ib: 0.01 c^2 chi f(eta) / r^2."""
     if r >= dd or r <= 0.0:

@@ -35,10 +35,10 @@ m_b = rho0 (dx / beta)^n) that is K_none = 2 K_pair / (1 + beta^n)
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from ..errors import ParameterError, require_nonnegative, require_positive
-from ..jit import particle_loop
+from ..jit import loop_helper, particle_loop
 from ..neighbors import cell_index, neighbour_range, point_of, separation, tag_dim, tag_periodic
 from ..pairs import gradient_factor, monaghan_viscosity, pressure_acceleration, viscosity_acts
 from ..views import cell_view, fluid_view, wall_view
@@ -47,7 +47,7 @@ from .base import WallModel
 #: "pair": 2 m_b / (m_a + m_b) in the force ([TrixiBoundary]); "none": without it (TrixiParticles' code)
 MASS_FACTORS = ("pair", "none")
 
-@njit(cache=True, inline="always")
+@loop_helper
 def wendland_c4_1d(q):
     """Phi of Monaghan & Kajtar: (1.77/32)(1 + 2.5 q + 2 q^2)(2 - q)^5 for q < 2 (1.77 at q = 0)."""
     if q >= 2.0:
@@ -56,7 +56,7 @@ def wendland_c4_1d(q):
     return 1.77 / 32.0 * (1.0 + 2.5 * q + 2.0 * q * q) * t * t * t * t * t
 
 
-@njit(cache=True, inline="always")
+@loop_helper
 def repulsive_acceleration_factor(r, h, d, K, beta, dim, m_a, m_b, pair_mass=True):
     """The scalar s with f~_ab = s r_ab ([TrixiBoundary]); the distance in (|r| - d) floored at 1.01 d.
 
