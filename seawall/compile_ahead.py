@@ -1,4 +1,4 @@
-"""Compiling a cold start on two cores: a forked helper compiles the loops the run will reach last.
+"""Compiling a cold start on two cores: a forked helper compiles the run's largest loops ahead of it.
 
 A run from an empty Numba cache spends most of its start compiling, one loop after another, on
 one core (docs/performance.md, "Start-up"). Which loops the first step calls, and with which
@@ -6,23 +6,26 @@ argument types, is known without running them: the types of their arguments do n
 the values the earlier loops compute. So at the start of the first run in a process,
 :func:`start` forks a helper that
 
-1. *rehearses* the start of the run (rates, the probes' read-out, the first step) on its own
-   copy of the state, with every particle loop (:func:`seawall.jit.particle_loop`) only
-   recorded -- its argument types noted, the loop not compiled and not run, so the state stays
-   the initial one and the rehearsal takes seconds; and then
-2. compiles the recorded loops from the last one backwards into Numba's on-disk cache, while
-   the run itself compiles from the first one forwards.
+1. *rehearses* the start of the run (rates, the probes' read-out, the first step; not the
+   guards, which the run calls first anyway) on its own copy of the state, with every particle
+   loop (:func:`seawall.jit.particle_loop`) only recorded -- its argument types noted, the loop
+   not compiled and not run, so the state stays the initial one and the rehearsal takes
+   seconds;
+2. *publishes* the recorded loops, in the order the run will call them, as a plan; and
+3. compiles them into Numba's on-disk cache, the largest first (by the length of their
+   bytecode), while the run compiles what it calls in its own order.
 
-The two meet in the middle. Every compile of a seawall function called from Python is first
-*claimed* (a file created with ``O_EXCL`` in a directory both processes share): the process
-that claims it compiles it, and the other, reaching it, waits until it is in the cache and
-loads it from there, which takes a fraction of a second. Neither process ever waits while it
-holds an unfinished claim (a compile never waits on the other process), so they cannot wait on
-each other; and each gives up waiting when the other has ended, compiling for itself. The run's
-results do not change: the machine code loaded from the cache is the code the run would have
-compiled. The helper writes no output and ends when its list is done, or is stopped when the
-run has finished its first step (everything a step calls is compiled then) or ends. Its copy of
-the state shares the run's memory until one of them writes; the rehearsal may reorder the
+Every compile of a seawall function called from Python is first *claimed* (a file created with
+``O_EXCL`` in a directory both processes share): the process that claims it compiles it, and
+the other, reaching it, loads it from the cache once it is there. A run that reaches a loop the
+helper is still compiling does not idle: it compiles the plan's next unclaimed loops meanwhile
+(the small ones the helper left for last), so the two finish close together. Neither process
+ever waits while it holds an unfinished claim, so they cannot wait on each other; and each
+gives up waiting when the other has ended, compiling for itself. The run's results do not
+change: the machine code loaded from the cache is the code the run would have compiled. The
+helper writes no output and ends when its list is done, or is stopped when the run has
+finished its first step (everything a step calls is compiled then) or ends. Its copy of the
+state shares the run's memory until one of them writes; the rehearsal may reorder the
 particles, so while it lives it can hold one more copy of the particle arrays.
 
 The fork must come before Numba starts its thread pool (GNU OpenMP, Numba's default layer on
@@ -39,6 +42,7 @@ worker processes already fill both cores).
 import atexit
 import hashlib
 import os
+import pickle
 import shutil
 import signal
 import sys
@@ -87,6 +91,16 @@ def _is_seawall(dispatcher):
     return getattr(dispatcher.py_func, "__module__", "").startswith("seawall")
 
 
+def _name(dispatcher):
+    return f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}"
+
+
+def _size(dispatcher):
+    """A loop's compile cost, estimated by the length of its bytecode (the largest loops of a
+    dam break: 4.0k, 2.4k and 2.0k bytes for about 8, 5.5 and 6.5 s of compile)."""
+    return len(dispatcher.py_func.__code__.co_code)
+
+
 def _signature(dispatcher, args):
     """The argument types Numba would compile ``dispatcher`` for, called with ``args``."""
     return tuple(dispatcher.typeof_pyval(a) for a in args)
@@ -105,7 +119,7 @@ class _Session:
     one of its results [s] (None: as long as it runs).
     """
 
-    def __init__(self, directory, other_alive, patience=None):
+    def __init__(self, directory, other_alive, patience=None, loops=()):
         self.directory = directory
         self.other_alive = other_alive
         self.patience = patience
@@ -113,6 +127,9 @@ class _Session:
         #: compiles claimed by this process, and results of the other one loaded from the cache
         self.compiled_here = 0
         self.loaded_from_other = 0
+        #: the loops a published plan may name (the run's side; see :meth:`take_from_plan`)
+        self.loops = {_name(d): d for d in loops}
+        self._plan = None
 
     def _path(self, key, suffix):
         return os.path.join(self.directory, key + suffix)
@@ -129,15 +146,60 @@ class _Session:
             pass
 
     def wait(self, key):
-        """Until the other process has finished ``key`` (True), or has ended or kept us waiting too long."""
+        """Until the other process has finished ``key`` (True), or has ended or kept us waiting too long.
+
+        While it waits, a process with a published plan compiles the plan's unclaimed loops
+        (:meth:`take_from_plan`) instead of idling.
+        """
         waited = 0.0
         done = self._path(key, ".done")
         while not os.path.exists(done):
             if not self.other_alive() or (self.patience is not None and waited > self.patience):
                 return False
+            if self.take_from_plan():
+                continue
             time.sleep(POLL_SECONDS)
             waited += POLL_SECONDS
         return True
+
+    def publish_plan(self, plan):
+        """Write the helper's list of (key, loop, argument types), in the order the run needs them."""
+        entries = [(key, _name(dispatcher), signature) for key, dispatcher, signature in plan]
+        path = self._path("plan", ".pickle")
+        try:
+            with open(path + ".tmp", "wb") as file:
+                pickle.dump(entries, file)
+            os.replace(path + ".tmp", path)      # the reader sees the whole plan or none
+        except Exception:                        # unpicklable types: the run just waits, as without a plan
+            pass
+
+    def take_from_plan(self):
+        """Claim and compile the first loop of the published plan nobody has claimed; whether one was found.
+
+        The plan lists the loops in the order the run calls them, so a run that would wait for the
+        helper compiles its own next loops meanwhile. It holds no unfinished claim while waiting,
+        as each compile here is finished (and marked done) before it looks again.
+        """
+        if self._plan is None:
+            try:
+                with open(self._path("plan", ".pickle"), "rb") as file:
+                    self._plan = [(key, self.loops.get(name), signature) for key, name, signature in pickle.load(file)]
+            except (OSError, EOFError, pickle.UnpicklingError):
+                return False
+        for entry in self._plan:
+            key, dispatcher, signature = entry
+            if dispatcher is None or os.path.exists(self._path(key, ".claim")):
+                continue
+            if not self.claim(key):
+                continue
+            try:
+                if dispatcher.overloads.get(signature) is None:
+                    dispatcher.compile(signature)
+                    self.compiled_here += 1
+            finally:
+                self.done(key)
+            return True
+        return False
 
     def compile_claimed(self, dispatcher, args):
         """``Dispatcher._compile_for_args`` under the claims: compile here, or load what the other compiled."""
@@ -173,7 +235,7 @@ def _uninstall():
 
 
 def _helper(session, rehearsal, loops):
-    """The forked helper's whole life: rehearse, then compile the recorded loops from the last one."""
+    """The forked helper's whole life: rehearse, publish the plan, compile its loops the largest first."""
     recorded = []
 
     def hook(dispatcher, args):
@@ -190,14 +252,17 @@ def _helper(session, rehearsal, loops):
             stage()
         except Exception:        # a stage cut short still leaves what it recorded
             pass
-    for dispatcher, signature in reversed(recorded):
+    plan = [(_key(dispatcher, signature), dispatcher, signature) for dispatcher, signature in recorded]
+    session.publish_plan(plan)
+    # the largest first: the run compiles its loops in the order it calls them and, when it would
+    # wait for one the helper holds, the plan's next unclaimed ones, so the small loops fill the gaps
+    order = sorted(range(len(plan)), key=lambda k: (-_size(plan[k][1]), -k))
+    for k in order:
+        key, dispatcher, signature = plan[k]
         if not session.other_alive():
             break                 # the run has ended
-        if dispatcher.overloads.get(signature) is not None:
-            continue
-        key = _key(dispatcher, signature)
-        if not session.claim(key):
-            break                 # the run has got here: everything before it is the run's
+        if dispatcher.overloads.get(signature) is not None or not session.claim(key):
+            continue              # compiled already, or the run's
         try:
             dispatcher.compile(signature)
         finally:
@@ -252,7 +317,7 @@ def start(rehearsal, loops):
             return False
         return True
 
-    session = _Session(directory, helper_alive)
+    session = _Session(directory, helper_alive, loops=loops)
     session.pid = pid
     _state["session"] = session
     _install(session.compile_claimed)

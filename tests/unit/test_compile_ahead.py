@@ -100,6 +100,43 @@ def test_a_helper_that_dies_leaves_the_run_to_compile_for_itself(tmp_path):
     assert [h + m for h, m in zip(result["hits"], result["misses"])] == [1, 1, 1, 1]
 
 
+PLAN = textwrap.dedent('''
+    import json, sys
+    import numpy as np
+    import numba
+    numba.config.CACHE_DIR = sys.argv[2]
+    sys.path.insert(0, sys.argv[1])
+    import seawall_toy_compile as toy
+    from seawall import compile_ahead
+
+    x = np.zeros(3)
+    types = (numba.typeof(x), numba.typeof(x))
+    plan = [(compile_ahead._key(d, types), d, types) for d in (toy.loop_a, toy.loop_b, toy.read_out)]
+    helper = compile_ahead._Session(sys.argv[3], lambda: True)
+    helper.publish_plan(plan)
+    assert helper.claim(plan[0][0])          # the helper holds loop_a
+    run = compile_ahead._Session(sys.argv[3], lambda: True, loops={toy.loop_a, toy.loop_b})
+    took = [run.take_from_plan() for _ in range(3)]
+    print(json.dumps({"took": took, "compiled_here": run.compiled_here,
+                      "overloads": [len(d.overloads) for d in (toy.loop_a, toy.loop_b, toy.read_out)]}))
+''')
+
+
+def test_a_run_waiting_for_the_helper_compiles_the_plans_unclaimed_loops(tmp_path):
+    """While the helper holds a loop, the run takes the plan's next unclaimed loop (loop_b), and
+    only loops it knows (read_out is not one of the loops given to it); then nothing is left."""
+    (tmp_path / "seawall_toy_compile.py").write_text(TOY)
+    claims = tmp_path / "claims"
+    claims.mkdir()
+    done = subprocess.run([sys.executable, "-c", PLAN, str(tmp_path), str(tmp_path / "cache"), str(claims)],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    result = json.loads(done.stdout.strip().splitlines()[-1])
+    assert result["took"] == [True, False, False]
+    assert result["compiled_here"] == 1
+    assert result["overloads"] == [0, 1, 0]
+
+
 def test_no_particle_loop_returns_a_value():
     """What lets the rehearsal skip a particle loop: the Python code never reads a result of one."""
     import ast
@@ -163,9 +200,19 @@ REHEARSAL = textwrap.dedent('''
     real = build("dam-break", dx=0.05, boundary=sys.argv[1])
     called = []
     original = Dispatcher.__call__
+    in_guards = [False]
+    check_health = real._check_health
+
+    def guards(*args, **kws):       # the run's guards, which the rehearsal leaves out
+        in_guards[0] = True
+        try:
+            return check_health(*args, **kws)
+        finally:
+            in_guards[0] = False
+    real._check_health = guards
 
     def spy(self, *args, **kws):
-        if self in PARTICLE_LOOPS:
+        if self in PARTICLE_LOOPS and not in_guards[0]:
             called.append(key(self, args))
         return original(self, *args, **kws)
     Dispatcher.__call__ = spy
@@ -179,8 +226,9 @@ REHEARSAL = textwrap.dedent('''
 def test_the_rehearsal_records_every_loop_of_the_first_step_with_its_types(boundary):
     """The rehearsal (loops skipped, so rates and sound speeds stay at zero) must still reach
     every particle loop the real start of a run calls, with the same argument types: what it
-    misses is compiled by the run alone. Run in a fresh process: a loop compiled already would
-    not come to the hook."""
+    misses is compiled by the run alone. The guards are left out of it (the run calls them
+    first, before the helper could have compiled anything). Run in a fresh process: a loop
+    compiled already would not come to the hook."""
     done = subprocess.run([sys.executable, "-c", REHEARSAL, boundary], capture_output=True, text=True,
                           timeout=900)
     assert done.returncode == 0, done.stderr[-3000:]
