@@ -297,6 +297,13 @@ def reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, reach2):
     range, in the same order, so a loop that skips pairs at r^2 >= reach2 sums exactly the same
     pairs. In 3D the 125 cells of the 25 rows become on average about the 84 cells a sphere of one
     support (two cell widths) touches; in 2D the 25 cells about 22.
+
+    Numba pastes it into the loops (``inline="always"``): left as a call per row, LLVM did not
+    inline it and the 2D dam break lost about 10 % of its speed. Its branches are few and the
+    x-trim is a :func:`~seawall.jit.loop_helper` (:func:`_cells_reached`), because every branch
+    pasted into a loop is worked through again by each of Numba's passes over it: written with a
+    branch per condition it cost the three loops that use it about 5 s of the default dam break's
+    32 s cold compile (docs/performance.md, "Start-up", eighth pass).
     """
     oy = row % 5 - 2
     oz = (row // 5 - 2) * min(ncell[2] - 1, 1)    # rows off the plane only in 3D (ncell[2] > 1)
