@@ -99,6 +99,24 @@ def use_threads(threads):
         numba.set_num_threads(_requested_threads[0])
 
 
+#: fluid and wall particles per thread below which a thread costs a run more than it saves
+PARTICLES_PER_THREAD = 4000
+
+
+def threads_for(particles, available=None):
+    """The thread count of a run of ``particles`` (fluid and wall) that asked for none.
+
+    Every parallel loop wakes the sleeping threads (``OMP_WAIT_POLICY=PASSIVE``, set by ``import
+    seawall``), and a step runs about ten, so a small run pays more for the second thread than
+    it gains: the 2D dam break, 2 threads against 1 (``seawall bench``, median chunk, quiet
+    2-core machine): 1.56 / 2.51 M particle-steps/s at 3.2k particles, 1.93 / 2.27 at 4.5k,
+    2.22 / 2.28 at 7.2k, 2.90 / 2.37 at 14.6k. So a thread per ``PARTICLES_PER_THREAD``
+    particles, at least one and at most ``available`` (Numba's ``NUMBA_NUM_THREADS``: the cores).
+    """
+    available = int(numba.config.NUMBA_NUM_THREADS if available is None else available)
+    return max(1, min(available, int(particles) // PARTICLES_PER_THREAD))
+
+
 def apply_threads():
     """Set the thread count asked for by :func:`use_threads`, if any (starts Numba's pool)."""
     if _requested_threads[0] is not None:

@@ -13,6 +13,7 @@ checkpoint and everything already written.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -34,7 +35,7 @@ from .fluid.system import FluidSystem
 from .health import (DAMAGE, KEEP, UNSTABLE, WALL, _DENSITY, classify_particles, derive_hull, parse_guard_settings,
                      parse_hull, reason_name, wall_depth_codes, walls_top)
 from .integrators import Integrator, Symplectic
-from .jit import PARTICLE_LOOPS, apply_threads, use_threads
+from .jit import PARTICLE_LOOPS, apply_threads, threads_for, use_threads
 from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
@@ -85,8 +86,11 @@ class Simulation(Runner):
         ``unstable`` within the last ``unstable_window`` seconds (default
         0.05) exceed ``unstable_fraction`` (default 0.001) of the fluid.
     threads : int, optional
-        Number of threads of the compiled loops (default: all cores); set when the first run
-        starts (``seawall.jit.use_threads``), not at construction.
+        Number of threads of the compiled loops; set when the first run starts
+        (``seawall.jit.use_threads``), not at construction. Default: ``NUMBA_NUM_THREADS`` if
+        set in the environment, else one per 4000 fluid and wall particles, at least one and
+        at most the cores (``seawall.jit.threads_for``: below that a thread costs more than
+        it saves).
     """
 
     def __init__(self, systems: Sequence[FluidSystem | WallSystem | Coupling], *, kernel: Kernel | None = None,
@@ -152,6 +156,8 @@ class Simulation(Runner):
                 raise ParameterError(
                     f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS}, got {threads}")
             use_threads(threads)   # set when the first run starts, after a compile helper is forked
+        elif "NUMBA_NUM_THREADS" not in os.environ:   # nobody chose: by the size of the problem
+            use_threads(threads_for(self.particles_per_step()))
         self.metadata = dict(metadata or {})
         #: what the case compares against (set by cases; used by seawall compare)
         self.reference = None

@@ -117,3 +117,36 @@ def test_switch_values_read_from_tags_in_compiled_and_plain_code():
         for periodic in (False, True):
             for value in (0, 1, 4):
                 assert read(layout_tag(dim, periodic), np.empty((0,) * (value + 1))) == (dim, periodic, value)
+
+
+def test_a_run_that_asks_for_no_thread_count_gets_one_per_4000_particles():
+    """Small runs step faster on one thread (every parallel loop wakes the others); the count is
+    chosen by the problem's size unless the Simulation, a case file or NUMBA_NUM_THREADS gives it."""
+    assert jit.threads_for(3162, available=2) == 1
+    assert jit.threads_for(7999, available=2) == 1
+    assert jit.threads_for(14598, available=2) == 2
+    assert jit.threads_for(400_000, available=2) == 2
+    assert jit.threads_for(0, available=8) == 1
+    script = (
+        "import json\n"
+        "from seawall.cases import build\n"
+        "from seawall.jit import thread_count, threads_for\n"
+        "counts = []\n"
+        "for dx in (0.05, 0.004):\n"
+        "    sim = build('dam-break', dx=dx)\n"
+        "    counts.append([thread_count(), threads_for(sim.particles_per_step())])\n"
+        "sim = build('dam-break', dx=0.05, threads=1)\n"
+        "counts.append([thread_count(), 1])\n"
+        "print(json.dumps(counts))\n")
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_NUM_THREADS"}
+    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    counts = json.loads(done.stdout.strip().splitlines()[-1])
+    assert all(got == want for got, want in counts)
+    assert counts[0][0] == 1 and counts[1][0] == min(2, jit.threads_for(14598))   # 3.2k and 14.6k particles
+    env["NUMBA_NUM_THREADS"] = "1"      # the user's choice wins: no count is set
+    done = subprocess.run([sys.executable, "-c", "from seawall.cases import build; from seawall import jit\n"
+                           "build('dam-break', dx=0.05); print(jit._requested_threads[0])"],
+                          env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.strip().splitlines()[-1] == "None"
