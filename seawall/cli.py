@@ -113,7 +113,9 @@ def build_parser():
     run.add_argument("--dx", type=_positive("--dx"), help="particle spacing [m] (case default otherwise)")
     run.add_argument("--t-end", type=_positive("--t-end"), help="simulated end time [s] (case default otherwise)")
     run.add_argument("--out", help="output directory (default runs/CASE-BOUNDARY)")
-    run.add_argument("--threads", type=_positive_int("--threads"), help="threads of the compiled loops")
+    run.add_argument("--threads", type=_positive_int("--threads"),
+                     help="threads of the compiled loops (default: NUMBA_NUM_THREADS if set, else one per 4000 "
+                          "particles, at most the cores)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE", help="case or wall-model parameter")
     run.add_argument("--output-every", type=_positive("--output-every"), help="VTU interval [s]")
     run.add_argument("--probe-every", type=_positive("--probe-every"), help="probe sampling interval [s]")
@@ -240,7 +242,7 @@ def build_parser():
     bench.add_argument("--steps", type=_positive_int("--steps"), default=100)
     bench.add_argument("--chunks", type=_positive_int("--chunks"), default=5,
                        help="split the timed steps into this many chunks and also report their median and best")
-    bench.add_argument("--threads", type=_positive_int("--threads"))
+    bench.add_argument("--threads", type=_positive_int("--threads"), help="as for run")
     bench.add_argument("--set", action="append", metavar="KEY=VALUE")
     return parser
 
