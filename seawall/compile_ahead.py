@@ -96,8 +96,8 @@ def _name(dispatcher):
 
 
 def _size(dispatcher):
-    """A loop's compile cost, estimated by the length of its bytecode (the largest loops of a
-    dam break: 4.0k, 2.4k and 2.0k bytes for about 8, 5.5 and 6.5 s of compile)."""
+    """A loop's compile cost, estimated by the length of its bytecode (the dam break's longest
+    compiles are its largest loops: fluid_rates 4.0k bytes, dummy_wall_forces 2.4k, adami_wall_state 2.0k)."""
     return len(dispatcher.py_func.__code__.co_code)
 
 
@@ -196,6 +196,8 @@ class _Session:
                 if dispatcher.overloads.get(signature) is None:
                     dispatcher.compile(signature)
                     self.compiled_here += 1
+            except Exception:      # not this wait's business: the run meets it again when it calls the loop
+                pass
             finally:
                 self.done(key)
             return True

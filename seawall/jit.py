@@ -171,7 +171,7 @@ def loop_helper(func):
     loops). Numba's own ``inline="always"`` pastes a function's IR into each caller instead,
     where each of Numba's passes over the loop -- type inference twice, the parallel passes'
     copy propagation and simplification, the lowering -- works through it again: the default
-    dam break's cold compile took 32-35 s of CPU with them inlined by Numba and 27 s so
+    dam break's cold compile took 32-35 s of CPU with them inlined by Numba and 25-27 s so
     (docs/performance.md, "Start-up", eighth pass), with ``probes.csv`` unchanged bit for bit.
     The functions that branch on a compile-time switch (:func:`type_constant`: the kernel, the
     dimension, periodicity) stay ``inline="always"``, so that Numba folds the switch first.
