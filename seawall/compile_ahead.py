@@ -107,8 +107,7 @@ def _signature(dispatcher, args):
 
 
 def _key(dispatcher, signature):
-    func = dispatcher.py_func
-    text = f"{func.__module__}.{func.__qualname__}|{signature}"
+    text = f"{_name(dispatcher)}|{signature}"
     return hashlib.sha1(text.encode()).hexdigest()
 
 
@@ -186,12 +185,9 @@ class _Session:
                     self._plan = [(key, self.loops.get(name), signature) for key, name, signature in pickle.load(file)]
             except (OSError, EOFError, pickle.UnpicklingError):
                 return False
-        for entry in self._plan:
-            key, dispatcher, signature = entry
-            if dispatcher is None or os.path.exists(self._path(key, ".claim")):
-                continue
-            if not self.claim(key):
-                continue
+        for key, dispatcher, signature in self._plan:
+            if dispatcher is None or not self.claim(key):
+                continue          # not a loop of this process, or claimed already
             try:
                 if dispatcher.overloads.get(signature) is None:
                     dispatcher.compile(signature)
