@@ -375,17 +375,18 @@ def fill_cell_list(x, lo, inv_cell, ncell, start, order, cell):
         cell[i] = cx + ncell[0] * (cy + ncell[1] * cz)
     start[:] = 0
     for i in range(n):
-        start[cell[i] + 1] += 1
-    for c in range(n_cells):
-        start[c + 1] += start[c]
-    # start[c] is cell c's cursor while filling; afterwards every entry is shifted back by one cell
-    for i in range(n):
+        start[cell[i]] += 1
+    total = 0
+    for c in range(n_cells):   # start[c]: the end of cell c
+        total += start[c]
+        start[c] = total
+    start[n_cells] = n
+    # filled from the back, each cell's end moves to its beginning: no pass to shift the cells
+    # back (the grid has more cells than particles: 536k for the 80k dam break)
+    for i in range(n - 1, -1, -1):
         c = cell[i]
+        start[c] -= 1
         order[start[c]] = i
-        start[c] += 1
-    for c in range(n_cells, 0, -1):
-        start[c] = start[c - 1]
-    start[0] = 0
 
 
 @loop_helper

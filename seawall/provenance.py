@@ -45,6 +45,7 @@ def provenance(argv=None):
 
     from . import __version__
     from .jit import THREADED, thread_count
+    from .subnormals import supported
 
     commit, dirty = git_commit()
     return {
@@ -54,6 +55,8 @@ def provenance(argv=None):
         "command_line": list(sys.argv if argv is None else argv),
         "threads": thread_count(),
         "loops": "threaded" if THREADED else "serial",
+        # values below 2.2e-308 are flushed to zero during runs (seawall.subnormals)
+        "subnormals": "flushed" if supported() else "kept",
         "python": platform.python_version(),
         "numba": numba.__version__,
         "numpy": numpy.__version__,

@@ -38,6 +38,7 @@ from .probes import Probe
 from .rundir import output_error
 from .sampling import LineSampler
 from .schedule import TIME_TOLERANCE, next_due
+from .subnormals import flushing
 
 
 class RunResult:
@@ -66,6 +67,8 @@ class Runner:
 
     #: output types :meth:`add` accepts (a subclass may narrow them)
     OUTPUT_TYPES = (VTK, Checkpoint, LineSampler)
+    #: flush subnormal numbers to zero while the loops run (:mod:`seawall.subnormals`)
+    flush_subnormals = True
 
     def _init_run_state(self):
         self.time = 0.0
@@ -216,14 +219,16 @@ class Runner:
 
     def run_steps(self, n_steps: int) -> None:
         """Advance exactly ``n_steps`` steps with no probes or output (benchmarks)."""
-        self._initialise()
-        for _ in range(int(n_steps)):
-            self._one_step(self.next_dt)
+        with flushing(self.flush_subnormals):
+            self._initialise()
+            for _ in range(int(n_steps)):
+                self._one_step(self.next_dt)
 
     def first_time_step(self) -> float:
         """Make the state ready (compiling the loops) and return the next time step [s]."""
         started = _time.perf_counter()
-        self._initialise()
+        with flushing(self.flush_subnormals):
+            self._initialise()
         self._startup_s += _time.perf_counter() - started
         return self.next_dt
 
@@ -239,6 +244,10 @@ class Runner:
         ends the current step, writes the checkpoints and raises
         :class:`~seawall.errors.RunInterrupted`.
         """
+        with flushing(self.flush_subnormals):
+            return self._run(t_end, progress=progress, probe_csv=probe_csv, max_steps=max_steps)
+
+    def _run(self, t_end, *, progress, probe_csv, max_steps):
         t_end = require_positive("t_end", t_end)
         if t_end <= self.time:
             raise ParameterError(f"t_end = {t_end:g} s must exceed the current time {self.time:g} s")

@@ -38,7 +38,7 @@ import functools
 import numpy as np
 from numba import njit, prange
 
-from ..eos import eos_pressure, eos_sound_speed
+from ..eos import eos_state
 from ..jit import fold_switches, particle_loop, type_constant
 from ..kernels import kernel_gradient_factor, kernel_shape
 from ..pairs import (continuity, density_diffusion, edac_diffusion, edac_divergence, gradient_factor, kernel_value,
@@ -58,9 +58,9 @@ def equation_of_state(rho, m, prm, p, c, p_over_rho2, volume):
     """
     for i in prange(rho.shape[0]):
         r = rho[i]
-        pi = eos_pressure(prm.eos, r, prm.rho0, prm.c0, prm.gamma, prm.p_background)
+        pi, ci = eos_state(prm.eos, r, prm.rho0, prm.c0, prm.gamma, prm.p_background)
         p[i] = pi
-        c[i] = eos_sound_speed(prm.eos, r, prm.rho0, prm.c0, prm.gamma)
+        c[i] = ci
         p_over_rho2[i] = pi / (r * r)
         volume[i] = m[i] / r
 
