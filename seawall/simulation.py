@@ -21,7 +21,7 @@ import numpy as np
 
 from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem, check_contract
-from . import compile_ahead
+from . import compile_ahead, subnormals
 from .coupling import Coupling
 from .boundary.particle_forces import defines_particle_forces, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
@@ -746,11 +746,12 @@ class Simulation(Runner):
     def _rehearsal(self):
         """The start of a run as a compile helper rehearses it in its forked copy (seawall.compile_ahead).
 
-        Stages: the first rates, the probes' read-out, one step. The particle loops are skipped
-        there, so values computed from their outputs are meaningless (a sound speed of zero
-        makes the time step fail); each stage is therefore tried on its own. Nothing is
-        written: the copy's outputs are dropped first. The guards are left out: the run calls
-        them first, so the helper would only wait for the run's compile of their serial loops.
+        Stages: the first rates, the probes' read-out, one step, the threads' flush switches.
+        The particle loops are skipped there, so values computed from their outputs are
+        meaningless (a sound speed of zero makes the time step fail); each stage is therefore
+        tried on its own. Nothing is written: the copy's outputs are dropped first. The guards
+        are left out: the run calls them first, so the helper would only wait for the run's
+        compile of their serial loops.
         """
         def rates():
             self.outputs = []
@@ -765,7 +766,13 @@ class Simulation(Runner):
         def step():
             dt = getattr(self, "next_dt", None)
             self._one_step(dt if dt is not None and math.isfinite(dt) and dt > 0 else 1e-6)
-        return rates, probes, step
+
+        def switches():
+            # the pool loop that sets the threads' flush switches (seawall.subnormals), which the run
+            # calls when its first evaluation is done
+            if self.flush_subnormals:
+                subnormals.rehearse()
+        return rates, probes, step, switches
 
     def _prepare_probes(self):
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])

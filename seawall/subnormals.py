@@ -101,6 +101,16 @@ def switch_pool(bits, old, thread):
         thread[k] = numba.get_thread_id()
 
 
+def rehearse():
+    """Call :func:`switch_pool` with a run's argument types, for a compile helper's rehearsal.
+
+    In the helper a particle loop is recorded, not run (:mod:`seawall.compile_ahead`), so the
+    helper compiles it; called anywhere else this would start Numba's pool and set its switches.
+    """
+    if supported() and THREADED:
+        switch_pool(np.int64(-1), np.empty(1, dtype=np.int64), np.empty(1, dtype=np.int64))
+
+
 def _pool_running():
     from numba.np.ufunc import parallel
 
