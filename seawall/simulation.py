@@ -94,8 +94,9 @@ class Simulation(Runner):
     flush_subnormals : bool
         Flush subnormal numbers (below 2.2e-308) to zero while the run's loops work (default
         True; x86-64 only, elsewhere ignored). They arise ahead of every disturbance spreading
-        into still fluid and cost the CPU tens of cycles each: the dam break's fluid loop took
-        1.6x as long with them (``seawall.subnormals``). The results agree to rounding.
+        into still fluid, and x86 CPUs are slow on them: the 80k dam break's fluid loop took
+        1.35x as long with them on one thread, 1.75x on two (``seawall.subnormals``). The
+        results agree to rounding.
     """
 
     def __init__(self, systems: Sequence[FluidSystem | WallSystem | Coupling], *, kernel: Kernel | None = None,

@@ -1,15 +1,16 @@
 """Subnormal numbers flushed to zero while a run's loops work.
 
-A double below 2.2e-308 in magnitude is *subnormal*, and x86 CPUs take one through a slow
-microcode path: 50-150 cycles for a multiply instead of a few. SPH produces them wherever a
-disturbance spreads into fluid at rest. The dam break starts with zero horizontal velocity in
-the column; the collapse at its free face reaches one kernel support further each step, and
-ahead of it the velocities fall off geometrically, a factor of about 1e-4 per step of
-distance. So every evaluation meets a band of particles whose velocities, accelerations and
-density rates are subnormal. At 80k particles (H/200) 1,854 velocity components were
-subnormal after 150 steps, and the fluid loop took 44 ms on one thread against 28 ms for the
-same particles without them (docs/performance.md, "Subnormal numbers"). The band also lies in
-one thread's share of the particles, so the two threads' halves took unequal time.
+A nonzero double below 2.2e-308 in magnitude is *subnormal*, and x86 CPUs take an operation
+on one through a slow microcode assist. SPH produces them wherever a disturbance spreads into
+fluid at rest. The dam break starts with zero horizontal velocity in the column; the collapse
+at its free face reaches one kernel support further each step, and ahead of it the velocities
+fall off geometrically (the smallest falls by about four decades a step). So once the front
+is far enough from the column's other side, every evaluation meets a band of particles whose
+velocities, accelerations and density rates are subnormal. At 80k particles (H/200) 1,854 velocity components were
+subnormal after 150 steps, and the fluid loop took 44.0 ms on that state on one thread, 32.5 ms
+with them flushed (docs/performance.md, "Subnormal numbers"). The band also lies in one
+thread's share of the particles, so the two threads' halves took unequal time: 28.9 ms on two
+threads, 16.5 ms flushed.
 
 Flushing gives up values below 2.2e-308, which cannot change a sum with a term of ordinary
 size: the loops' results agree to rounding. The x86 control register MXCSR holds the two
