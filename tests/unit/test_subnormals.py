@@ -89,7 +89,7 @@ def _dam_break(flush):
     sim = case_by_name("dam-break").build(boundary="adami", dx=0.02, threads=1)
     sim.flush_subnormals = flush
     # subnormal horizontal velocities, as ahead of a disturbance in still water (the dam break at
-    # dx = 0.0015 has a band of them from about step 40; at this dx the disturbance fills the
+    # dx = 0.0015 has a band of them by step 80; at this dx the disturbance fills the
     # column before its tail falls that low)
     v = sim.fluid.particles["v"]
     v[::2, 0] = 3e-310
