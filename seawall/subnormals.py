@@ -6,11 +6,11 @@ fluid at rest. The dam break starts with zero horizontal velocity in the column;
 at its free face reaches one kernel support further each step, and ahead of it the velocities
 fall off geometrically (the smallest falls by about four decades a step). So once the front
 is far enough from the column's other side, every evaluation meets a band of particles whose
-velocities, accelerations and density rates are subnormal. At 80k particles (H/200) 1,854 velocity components were
-subnormal after 150 steps, and the fluid loop took 44.0 ms on that state on one thread, 32.5 ms
-with them flushed (docs/performance.md, "Subnormal numbers"). The band also lies in one
-thread's share of the particles, so the two threads' halves took unequal time: 28.9 ms on two
-threads, 16.5 ms flushed.
+velocities, accelerations and density rates are subnormal. At 80k particles (H/200) 1,854
+velocity components were subnormal after 150 steps, and the fluid loop took 44.0 ms on that
+state on one thread, 32.5 ms with them flushed (docs/performance.md, "Subnormal numbers"). The
+band also lies in one thread's share of the particles, so the two threads' halves took unequal
+time: 28.9 ms on two threads, 16.5 ms flushed.
 
 Flushing gives up values below 2.2e-308, which cannot change a sum with a term of ordinary
 size: the loops' results agree to rounding. The x86 control register MXCSR holds the two
@@ -158,8 +158,8 @@ def flushing(enabled: bool = True):
     if before == FLUSH_BITS:
         yield
         return
-    pool_switches(FLUSH_BITS)
     try:
+        pool_switches(FLUSH_BITS)
         yield
     finally:
         pool_switches(before)
