@@ -81,10 +81,10 @@ def enabled(environ=None):
     # inherit a lock one of them held at the fork
     if threading.current_thread() is not threading.main_thread() or threading.active_count() > 1:
         return False
-    from numba.np.ufunc import parallel
+    from .jit import pool_started
 
     # a process whose thread pool has started cannot fork safely (GNU OpenMP ends the child)
-    return not parallel._is_initialized
+    return not pool_started()
 
 
 def _is_seawall(dispatcher):

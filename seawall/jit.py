@@ -95,7 +95,7 @@ def use_threads(threads):
     can no longer fork a compile helper (:mod:`seawall.compile_ahead`).
     """
     _requested_threads[0] = int(threads)
-    if _pool_started():
+    if pool_started():
         numba.set_num_threads(_requested_threads[0])
 
 
@@ -125,14 +125,15 @@ def apply_threads():
 
 def thread_count():
     """The threads the compiled loops use, or will use once the pool starts; does not start it."""
-    if _pool_started():
+    if pool_started():
         return int(numba.get_num_threads())
     if _requested_threads[0] is not None:
         return _requested_threads[0]
     return int(numba.config.NUMBA_NUM_THREADS)
 
 
-def _pool_started():
+def pool_started():
+    """Whether Numba's thread pool runs (asking does not start it)."""
     from numba.np.ufunc import parallel
 
     return bool(parallel._is_initialized)

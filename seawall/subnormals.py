@@ -32,7 +32,7 @@ from numba import njit, prange, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from .jit import PARALLEL, THREADED, particle_loop
+from .jit import THREADED, particle_loop, pool_started
 
 #: MXCSR's flush-to-zero (bit 15) and denormals-are-zero (bit 6) switches
 FLUSH_BITS = 0x8040
@@ -113,9 +113,8 @@ def rehearse():
 
 
 def _pool_running():
-    from numba.np.ufunc import parallel
-
-    return THREADED and bool(PARALLEL) and bool(parallel._is_initialized)
+    # a serial build (SEAWALL_LOOPS=serial) runs its loops on the calling thread only
+    return THREADED and pool_started()
 
 
 def pool_switches(bits=-1):

@@ -76,7 +76,8 @@ print(json.dumps(report))
 
 def test_every_thread_of_the_pool_flushes_in_the_block_and_is_restored_after():
     env = dict(os.environ, SEAWALL_LOOPS="threaded", NUMBA_NUM_THREADS="2")
-    done = subprocess.run([sys.executable, "-c", _POOL_SCRIPT], env=env, capture_output=True, text=True)
+    done = subprocess.run([sys.executable, "-c", _POOL_SCRIPT], env=env, capture_output=True, text=True,
+                          timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     report = json.loads(done.stdout.strip().splitlines()[-1])
     assert report["started_inside"] == [FLUSH_BITS, FLUSH_BITS]
