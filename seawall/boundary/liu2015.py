@@ -34,7 +34,10 @@ the fluid only conditionally:
   no slip, v_b enters the laminar viscous term of eq. 9 between fluid particle
   i and dummy b (mu_b = mu of the fluid, rho_b = rho0); eq. 21 takes the
   dummy's normal velocity, 2 v_w . n - <v_b> . n (v_w . n with free slip),
-  with v_w . n = 0 for a wall whose particles stay put.
+  with v_w . n = 0 for a wall whose particles stay put. ``normal_velocity="wall"``
+  gives eq. 21 the wall's own v_w . n with no slip as well (eq. 29 then acts only
+  through the viscous term): the mirrored normal velocity over-presses the first
+  fluid column next to a no-slip wall (docs/liu2015.md, choice 13).
 
 Dummy particles with no fluid neighbour get P_b = background pressure and
 v_b = v_w. Each dummy particle needs its unit wall normal (from the geometry:
@@ -56,16 +59,20 @@ SLIP_MODES = ("free", "noslip")
 #: "normal": eq. 21 as the normal projection of v_ib; "conditional": eq. 21 literally
 #: (the full term whenever |v_ib . n_b| > 1e-9 |v_ib|, else nothing)
 CONTINUITY_MODES = ("normal", "conditional", "off")
+#: the dummy's normal velocity in the normal form of eq. 21 with no slip: "mirror" = eq. 29's
+#: (2 v_w - <v>) . n, as the paper writes it; "wall" = the wall's own v_w . n
+NORMAL_VELOCITIES = ("mirror", "wall")
 
 
 @particle_loop()
 def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, order, lo, inv_cell, ncell, period,
-                       prm, noslip, surface_moves, pw, vb, vbn):
+                       prm, noslip, mirror_normal, surface_moves, pw, vb, vbn):
     """Dummy pressure by eq. 26-27 and dummy velocity by eq. 28-29 of [Liu2015] for every wall particle.
 
     ``nw`` are the wall normals pointing into the fluid; eq. 26's normal points
     out of the fluid, hence the minus sign of the c_s term here. ``vbn`` gets
-    the dummy's normal velocity v_b . n_b used by eq. 21; when the wall's
+    the dummy's normal velocity v_b . n_b used by eq. 21: with no slip and
+    ``mirror_normal`` the normal part of eq. 29's v_b, else the wall's own; when the wall's
     particles do not move (``surface_moves`` false, e.g. a sliding lid) the
     wall's normal velocity is zero whatever its prescribed (tangential) velocity.
     """
@@ -116,8 +123,11 @@ def liu2015_wall_state(layout, xw, vw, aw, nw, xf, vf, pf, rhof, mf, start, orde
             vb[b, 1] = 2.0 * w1 - sv1 / sw
             if dim == 3:
                 vb[b, 2] = 2.0 * w2 - sv2 / sw
-            # the mirror of the fluid's normal velocity about the wall's
-            vbn[b] = 2.0 * wn - (sv0 * n0 + sv1 * n1 + sv2 * n2) / sw
+            if mirror_normal:
+                # the mirror of the fluid's normal velocity about the wall's
+                vbn[b] = 2.0 * wn - (sv0 * n0 + sv1 * n1 + sv2 * n2) / sw
+            else:
+                vbn[b] = wn
         else:
             vb[b, 0] = w0
             vb[b, 1] = w1
@@ -232,6 +242,13 @@ class Liu2015Wall(WallModel):
         "off" drops the wall from the continuity equation.
     sound_speed_term : bool
         Include the rho c_s v . n term of eq. 26 (default True).
+    normal_velocity : {"mirror", "wall"}
+        With no slip, the dummy's normal velocity in eq. 21 (``continuity="normal"``):
+        "mirror" (default) the normal part of eq. 29's v_b = 2 v_w - <v>, as the
+        paper writes it; "wall" the wall's own normal velocity, so that eq. 29
+        acts through the viscous term only. The mirror over-presses the first
+        fluid column at a no-slip wall (docs/liu2015.md, choice 13). Free slip
+        always uses the wall's.
 
     Each wall particle needs a normal (walls built by :mod:`seawall.shapes`
     carry them). The wall density is rho0 (constant) and its mass rho0 dx^d.
@@ -258,15 +275,22 @@ class Liu2015Wall(WallModel):
             terms.add("laminar_viscosity")
         return frozenset(terms)
 
-    def __init__(self, *, slip="free", nu=None, continuity="normal", sound_speed_term=True):
+    def __init__(self, *, slip="free", nu=None, continuity="normal", sound_speed_term=True, normal_velocity="mirror"):
         if slip not in SLIP_MODES:
             raise ParameterError(f"slip must be one of {', '.join(SLIP_MODES)}; got {slip!r}")
         if continuity not in CONTINUITY_MODES:
             raise ParameterError(f"continuity must be one of {', '.join(CONTINUITY_MODES)}; got {continuity!r}")
+        if normal_velocity not in NORMAL_VELOCITIES:
+            raise ParameterError(f"normal_velocity must be one of {', '.join(NORMAL_VELOCITIES)}; "
+                                 f"got {normal_velocity!r}")
+        if normal_velocity != "mirror" and continuity != "normal":
+            raise ParameterError(f"normal_velocity={normal_velocity!r} acts on the normal form of eq. 21 only; "
+                                 f"it needs continuity='normal', got continuity={continuity!r}")
         self.slip = slip
         self.nu = None if nu is None else require_nonnegative("nu", nu)
         self.continuity = continuity
         self.sound_speed_term = bool(sound_speed_term)
+        self.normal_velocity = normal_velocity
         self.name = "liu2015" if slip == "free" else "liu2015-noslip"
         self._wall_nu = 0.0
         self._rho_b = 1000.0
@@ -304,7 +328,8 @@ class Liu2015Wall(WallModel):
         cells = ctx.fluid_cells
         liu2015_wall_state(g.layout, pa["x"], pa["v"], pa["a"], pa["normal"], fp["x"], fp["v"], fp["p"], fp["rho"],
                            fp["m"], cells.start, cells.order, g.lo, g.inv_cell, g.ncell, g.period,
-                           self._prm(ctx.physics), self.slip == "noslip", wall.movement is not None, pa["p"],
+                           self._prm(ctx.physics), self.slip == "noslip", self.normal_velocity == "mirror",
+                           wall.movement is not None, pa["p"],
                            pa["v_dummy"], pa["vn_dummy"])
 
     def interact(self, fluid, wall, ctx, dv, drho):

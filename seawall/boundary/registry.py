@@ -55,11 +55,12 @@ def _monaghan_kajtar(*, K=None, beta=3.0, alpha_wall=0.0, mass_factor="pair"):
 
 
 def _liu2015(default_slip="free"):
-    def factory(*, slip=default_slip, wall_nu=None, continuity="normal"):
+    def factory(*, slip=default_slip, wall_nu=None, continuity="normal", normal_velocity="mirror", sound_speed=True):
         from .liu2015 import Liu2015Wall
 
         return Liu2015Wall(slip=str(slip), nu=None if wall_nu is None else _number("wall_nu", wall_nu),
-                           continuity=str(continuity))
+                           continuity=str(continuity), normal_velocity=str(normal_velocity),
+                           sound_speed_term=_flag("sound_speed", sound_speed))
     return factory
 
 
@@ -157,7 +158,8 @@ BOUNDARIES = {
              "improved DBC, Li et al. ([Li2022]): order-7 EOS, rectangular support, alpha_DB "
              "(--set order=1..7 rectangular=0/1 correction=0/1 alpha_wall=...)"),
     "liu2015": (_liu2015(), "dummy particles of Liu et al. (2015, [Liu2015]): normal-only repulsive pressure term, "
-                "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off)"),
+                "Taylor/CSPM dummy pressure (--set slip=free|noslip continuity=normal|conditional|off "
+                "normal_velocity=mirror|wall sound_speed=1|0)"),
     "liu2015-noslip": (_liu2015("noslip"), "Liu et al. (2015) dummy particles with no slip (eq. 28-29)"),
     "mdbc": (_mdbc("vel0"), "modified DBC, English et al. (2022, [English2022]): wall density extrapolated from a "
              "mirrored ghost node, first-order corrected (--set order=1|0 det_min=1e-3 slip=vel0|noslip "

@@ -125,6 +125,30 @@ def test_literal_conditional_continuity_does_count_tangential_motion():
     assert np.abs(drho).max() > 10.0 * np.abs(drho_normal).max()
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_noslip_normal_velocity_mirror_doubles_the_approach_and_wall_keeps_it(dim):
+    """Eq. 21 with no slip: the mirrored dummy velocity (eq. 29) sees uniform fluid approaching the wall at
+    twice its speed; ``normal_velocity="wall"`` gives the free-slip wall's density rate."""
+    rates = {}
+    for slip, normal in (("free", "mirror"), ("noslip", "mirror"), ("noslip", "wall")):
+        sim, wall, n, t = _rotated_setup(dim, 0.37, slip=slip, jitter=0.2)
+        wall.model.normal_velocity = normal
+        sim.fluid.particles["v"][:] = -0.1 * n + 0.3 * t
+        sim.evaluate(0.0)                                  # the dummy velocities follow the fluid
+        rates[slip, normal] = _wall_terms(sim, wall)[1]
+    free = rates["free", "mirror"]
+    assert free.max() > 0.0
+    np.testing.assert_allclose(rates["noslip", "wall"], free, rtol=1e-12, atol=1e-12 * free.max())
+    np.testing.assert_allclose(rates["noslip", "mirror"], 2.0 * free, rtol=1e-9, atol=1e-9 * free.max())
+
+
+def test_normal_velocity_option_is_checked():
+    with pytest.raises(ParameterError, match="normal_velocity"):
+        Liu2015Wall(slip="noslip", normal_velocity="fluid")
+    with pytest.raises(ParameterError, match="continuity='normal'"):
+        Liu2015Wall(slip="noslip", normal_velocity="wall", continuity="conditional")
+
+
 def _has_fluid_neighbour(sim, x):
     xf = sim.fluid.particles["x"]
     support = sim.kernel.support(sim.h)

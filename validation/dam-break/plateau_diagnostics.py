@@ -47,6 +47,10 @@ VARIANTS = {
                               "no slip with water's viscosity at the wall instead of alpha h c0 / 8"),
     "adami-noslip-nu-quarter": ("adami-noslip", {"wall_nu": "quarter"}, 50,
                                 "no slip with a quarter of the default wall viscosity alpha h c0 / 8"),
+    "liu2015-noslip-wall-normal": ("liu2015-noslip", {"normal_velocity": "wall"}, 50,
+                                   "eq. 21 with the wall's normal velocity instead of eq. 29's mirror"),
+    "liu2015-noslip-wall-normal-h100": ("liu2015-noslip", {"normal_velocity": "wall"}, 100,
+                                        "eq. 21 with the wall's normal velocity instead of eq. 29's mirror"),
 }
 
 
