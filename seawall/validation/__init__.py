@@ -101,6 +101,9 @@ class Context:
     checkpoint_dir: str = None
     #: the simulated times at which :meth:`run` continued from a checkpoint (stored with the result)
     resumed_at: list = field(default_factory=list)
+    #: where the entry's result JSON goes (``seawall validate --results DIR``); files an entry keeps
+    #: beside it (e.g. a series for figures) go there too
+    results_dir: str = None
 
     def run(self, sim, t_end, *, checkpoints=20):
         """``sim.run(t_end)`` for an entry, resumable with ``--checkpoints``; returns its RunResult.
@@ -234,7 +237,7 @@ def run_entry(entry, *, quick, results=None, img_dir=None, threads=None, checkpo
         img_dir = img_dir or os.path.join(entry.folder, "img")
     if threads is not None:
         numba.set_num_threads(int(threads))
-    ctx = Context(quick=quick, img_dir=img_dir, threads=threads,
+    ctx = Context(quick=quick, img_dir=img_dir, threads=threads, results_dir=results,
                   checkpoint_dir=None if checkpoints is None
                   else os.path.join(checkpoints, entry.name + ("-quick" if quick else "")))
     started = time.perf_counter()

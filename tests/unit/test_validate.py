@@ -108,3 +108,18 @@ def test_replace_block_keeps_the_prose_and_refuses_a_file_without_markers(tmp_pa
         validation.replace_block(str(doc), "<!-- u:begin -->", "<!-- u:end -->", "x")
     validation.replace_block(str(doc), "<!-- u:begin -->", "<!-- u:end -->", "x", append=True)
     assert doc.read_text().endswith("outro\n\n<!-- u:begin -->\nx\n<!-- u:end -->\n")
+
+
+def test_an_entry_gets_the_results_directory_for_the_files_it_keeps(tmp_path):
+    # `seawall validate --results DIR`: what an entry keeps beside its JSON (a series for figures) goes to DIR,
+    # not into the checkout's validation/<case>/results
+    seen = []
+
+    def run(ctx):
+        seen.append(ctx.results_dir)
+        return {"rows": [], "settings": "none"}
+
+    entry = validation.Entry(name="kept-files", title="", run=run, expected_s=1.0)
+    out = tmp_path / "results"
+    validation.run_entry(entry, quick=True, results=str(out), img_dir=str(tmp_path / "img"))
+    assert seen == [str(out)] and (out / "kept-files.json").exists()

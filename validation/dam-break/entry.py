@@ -57,7 +57,8 @@ FILES = [("buchner2002_P1_pysph.csv", "Buchner 2002 P1 (PySPH digitisation)"),
 def run(ctx, n=50, settings=None, plot=None, series=None):
     """The entry at dx = H/n (the quick run: H/10 to t* = 3.4) with the case parameters ``settings``
     (default :data:`SETTINGS`) and the plot name ``plot``; a full run also writes its P1 series to
-    ``results/<series>.csv`` when ``series`` is given."""
+    ``<series>.csv`` in the results directory (``seawall validate --results DIR``, default
+    ``results/``) when ``series`` is given."""
     settings = SETTINGS if settings is None else settings
     dx = H / 10 if ctx.quick else H / n
     t_star_end = 3.4 if ctx.quick else 7.5
@@ -73,7 +74,8 @@ def run(ctx, n=50, settings=None, plot=None, series=None):
     ps_raw = p1 / (RHO0 * G * H)
     ps = running_mean(ts, ps_raw, 0.1)
     if series and not ctx.quick:
-        np.savetxt(os.path.join(HERE, "results", f"{series}.csv"), np.column_stack([ts, ps_raw, ps]),
+        np.savetxt(os.path.join(ctx.results_dir or os.path.join(HERE, "results"), f"{series}.csv"),
+                   np.column_stack([ts, ps_raw, ps]),
                    delimiter=",", fmt="%.5f", header="t_star,p_star,p_star_running_mean_0.1", comments="")
     refs = []
     for fname, label in FILES:
