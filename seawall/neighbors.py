@@ -272,38 +272,53 @@ def _gap(offset, frac, width):
 
 
 @loop_helper
-def _cells_reached(side, frac, width, left):
-    """How many of the cells 1 and 2 steps along x towards ``side`` (-1 or +1) are within reach: 0, 1 or 2.
+def _squared_gaps(frac, width):
+    """The squared :func:`_gap` to the cells at offsets -2, -1, +1, +2 along one axis."""
+    gm2 = _gap(-2, frac, width)
+    gm1 = _gap(-1, frac, width)
+    gp1 = _gap(1, frac, width)
+    gp2 = _gap(2, frac, width)
+    return gm2 * gm2, gm1 * gm1, gp1 * gp1, gp2 * gp2
 
-    A cell is within reach when its gap squared is below ``left``; the gap to the second is never
-    below the gap to the first, so the second is looked at only when the first is within reach.
-    """
-    g = _gap(side, frac, width)
-    if g * g >= left:
-        return 0
-    g = _gap(2 * side, frac, width)
-    return 2 if g * g < left else 1
+
+@loop_helper
+def reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell):
+    """What :func:`reach_range` needs of a point, computed once per particle: the squared gaps
+    (:func:`_gap`) from the point to the cells 2 and 1 before and 1 and 2 after its own, per axis
+    (x, y, z; 12 values; z's are those of a 2D point too, and unused)."""
+    fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
+    xm2, xm1, xp1, xp2 = _squared_gaps(fx, 1.0 / inv_cell[0])
+    ym2, ym1, yp1, yp2 = _squared_gaps(fy, 1.0 / inv_cell[1])
+    zm2, zm1, zp1, zp2 = _squared_gaps(fz, 1.0 / inv_cell[2])
+    return xm2, xm1, xp1, xp2, ym2, ym1, yp1, yp2, zm2, zm1, zp1, zp2
 
 
 @njit(cache=True, inline="always")
-def reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, reach2):
+def _pick(offset, m2, m1, p1, p2):
+    """The squared gap for ``offset`` in -2 ... 2 (0 for the point's own cell)."""
+    return m2 if offset == -2 else (m1 if offset == -1 else (0.0 if offset == 0 else (p1 if offset == 1 else p2)))
+
+
+@njit(cache=True, inline="always")
+def reach_range(row, cx, cy, cz, plan, ncell, start, reach2):
     """:func:`neighbour_range` trimmed to the cells that the sphere of squared radius ``reach2`` touches.
 
-    Non-periodic grids only (callers keep :func:`neighbour_range` for periodic ones). ``fx, fy,
-    fz`` place the point in its cell (:func:`cell_fractions`), ``width`` is the cell size per axis.
-    The row's gaps across y and z (:func:`_gap`) leave reach2 - gy^2 - gz^2 for x: the row is
-    skipped when nothing is left, and its end cells (offsets -2, -1 and +1, +2) are dropped while
-    their gap along x alone uses it up. Every particle closer than sqrt(reach2) stays in the
-    range, in the same order, so a loop that skips pairs at r^2 >= reach2 sums exactly the same
-    pairs. In 3D the 125 cells of the 25 rows become on average about the 84 cells a sphere of one
-    support (two cell widths) touches; in 2D the 25 cells about 22.
+    Non-periodic grids only (callers keep :func:`neighbour_range` for periodic ones). ``plan`` is
+    the point's :func:`reach_plan`. The row's squared gaps across y and z leave
+    reach2 - gy^2 - gz^2 for x: the row is empty when nothing is left, and its end cells (offsets
+    -2, -1 and +1, +2) are dropped while their gap along x alone uses it up (the gap to the
+    second is never below the gap to the first). Every particle closer than sqrt(reach2) stays in
+    the range, in the same order, so a loop that skips pairs at r^2 >= reach2 sums exactly the
+    same pairs. In 3D the 125 cells of the 25 rows become on average about the 84 cells a sphere
+    of one support (two cell widths) touches; in 2D the 25 cells about 22.
 
-    Numba pastes it into the loops (``inline="always"``): left as a call per row, LLVM did not
-    inline it and the 2D dam break lost about 10 % of its speed. Its branches are few and the
-    x-trim is a :func:`~seawall.jit.loop_helper` (:func:`_cells_reached`), because every branch
-    pasted into a loop is worked through again by each of Numba's passes over it: written with a
-    branch per condition it cost the three loops that use it about 5 s of the default dam break's
-    32 s cold compile (docs/performance.md, "Start-up", eighth pass).
+    The decisions are comparisons turned into counts and a select, not branches: the gaps
+    differ from particle to particle, and as branches they were mispredicted so often that the
+    3D dam break's rows cost 22 ms per pass over its 27k fluid particles, against 4 ms so
+    (docs/performance.md, "The cell walk without branches"). The gaps come from
+    :func:`reach_plan`, once per particle instead of once per row. Numba pastes this into the
+    loops (``inline="always"``): left as a call per row, LLVM did not inline it and the 2D dam
+    break lost about 10 % of its speed.
     """
     oy = row % 5 - 2
     oz = (row // 5 - 2) * min(ncell[2] - 1, 1)    # rows off the plane only in 3D (ncell[2] > 1)
@@ -311,15 +326,14 @@ def reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, reach2):
     nz = cz + oz
     if not ((ny >= 0) & (ny < ncell[1]) & (nz >= 0) & (nz < ncell[2])):
         return 0, 0
-    gy = _gap(oy, fy, width[1])
-    gz = _gap(oz, fz, width[2])
-    left = reach2 - gy * gy - gz * gz
-    if left <= 0.0:
-        return 0, 0
-    xl = max(cx - _cells_reached(-1, fx, width[0], left), 0)
-    xr = min(cx + _cells_reached(1, fx, width[0], left), ncell[0] - 1)
+    left = (reach2 - _pick(oy, plan[4], plan[5], plan[6], plan[7])
+            - _pick(oz, plan[8], plan[9], plan[10], plan[11]))
+    xl = max(cx - ((plan[1] < left) + (plan[0] < left)), 0)
+    xr = min(cx + ((plan[2] < left) + (plan[3] < left)), ncell[0] - 1)
     base = ncell[0] * (ny + ncell[1] * nz)
-    return start[base + xl], start[base + xr + 1]
+    ka = start[base + xl]
+    kb = start[base + xr + 1]
+    return ka, (kb if left > 0.0 else ka)
 
 
 @loop_helper

@@ -45,7 +45,7 @@ from ..errors import ParameterError, require_nonnegative, require_positive
 from ..fluid.rates import scheme_tag, tag_value
 from ..jit import particle_loop
 from ..kernels import kernel_gradient_factor, kernel_shape
-from ..neighbors import cell_fractions, cell_index, neighbour_range, point_of, reach_range, tag_dim, tag_periodic, separation
+from ..neighbors import cell_index, neighbour_range, point_of, reach_plan, reach_range, tag_dim, tag_periodic, separation
 from ..pairs import (continuity, gradient_factor, laminar_viscosity, pressure_acceleration, riemann_continuity,
                      riemann_fluid_jump, riemann_momentum_coefficient, riemann_pressure,
                      riemann_wall_jump)
@@ -76,7 +76,6 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
     """
     nw = xw.shape[0]
     inv_h = 1.0 / prm.h
-    width = 1.0 / inv_cell
     dim_ = tag_dim(layout)   # the serial pass's; the parallel body reads its own below
     rho_none = eos_density(prm.eos, prm.p_background, prm.rho0, prm.c0, prm.gamma, prm.p_background)
     walked = np.empty(nw, dtype=np.int64)
@@ -102,7 +101,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
         nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(xw, b, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-        fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
+        plan = reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell)
         ab0, ab1, ab2 = point_of(aw, b, dim)
         g0 = prm.gx - ab0
         g1 = prm.gy - ab1
@@ -115,7 +114,7 @@ def adami_wall_state(layout, xw, vw, aw, xf, vf, pf, rhof, start, order, reach, 
                 if periodic:
                     ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 else:  # only the cells the support reaches: the same pairs, fewer candidates
-                    ka, kb = reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, prm.support2)
+                    ka, kb = reach_range(row, cx, cy, cz, plan, ncell, start, prm.support2)
                 for k in range(ka, kb):
                     f = order[k]
                     d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
@@ -273,7 +272,6 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates, scheme):
     gradient_scale = prm.sigma * inv_h * inv_h
     eta2 = prm.eta2
     rho0c0 = prm.rho0 * prm.c0
-    width = 1.0 / inv_cell
     for i in prange(nf):
         dim = tag_dim(layout)   # inside the parallel body, where it is a constant
         periodic = tag_periodic(layout)
@@ -284,7 +282,7 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates, scheme):
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         if reach[cx + ncell[0] * (cy + ncell[1] * cz)] == 0:
             continue
-        fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
+        plan = reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell)
         vi0, vi1, vi2 = point_of(vf, i, dim)
         rhoi = rhof[i]
         pr_i = pf[i] / (rhoi * rhoi)
@@ -295,7 +293,7 @@ def dummy_wall_forces(fluid, wall, cells, prm, mirror, wall_nu, rates, scheme):
                 if periodic:
                     ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 else:  # only the cells the support reaches: the same pairs, fewer candidates
-                    ka, kb = reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, prm.support2)
+                    ka, kb = reach_range(row, cx, cy, cz, plan, ncell, start, prm.support2)
                 for k in range(ka, kb):
                     b = order[k]
                     d0, d1, d2, r2 = separation(p0, p1, p2, xw, b, dim, periodic, period)

@@ -45,7 +45,7 @@ from ..pairs import (continuity, density_diffusion, edac_diffusion, edac_diverge
                      laminar_viscosity,
                      monaghan_viscosity, pressure_acceleration, riemann_continuity, riemann_fluid_jump,
                      riemann_momentum_coefficient, riemann_pressure, tensile_coefficient, tensile_term, viscosity_acts, xsph_weight)
-from ..neighbors import cell_fractions, cell_index, neighbour_range, point_of, reach_range, tag_dim, tag_periodic, separation
+from ..neighbors import cell_index, neighbour_range, point_of, reach_plan, reach_range, tag_dim, tag_periodic, separation
 from .params import DIFFUSION_NONE, DIFFUSION_RENORMALISED
 
 
@@ -235,7 +235,6 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
     inv_cell = cells.inv_cell
     ncell = cells.ncell
     period = cells.period
-    width = 1.0 / inv_cell
     dv = rates.dv
     drho = rates.drho
     xsph = rates.xsph
@@ -271,7 +270,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
         nrows = 25 if dim == 3 else 5
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-        fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
+        plan = reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell)
         vi0, vi1, vi2 = point_of(v, i, dim)
         rhoi = rho[i]
         pi = p[i]
@@ -303,7 +302,7 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
                 if periodic:
                     ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 else:  # only the cells the support reaches: the same pairs, fewer candidates
-                    ka, kb = reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, prm.support2)
+                    ka, kb = reach_range(row, cx, cy, cz, plan, ncell, start, prm.support2)
                 for k in range(ka, kb):
                     j = order[k]
                     if j == i:

@@ -5,8 +5,8 @@ import pytest
 from numba import njit
 
 from seawall.errors import ParameterError
-from seawall.neighbors import (CellGrid, cell_fractions, cell_index, cells_within_reach, neighbour_pairs, neighbour_range,
-                               reach_range)
+from seawall.neighbors import (CellGrid, cell_index, cells_within_reach, neighbour_pairs, neighbour_range,
+                               reach_plan, reach_range)
 
 
 def brute(xa, xb, radius, period=None, same=False):
@@ -101,15 +101,14 @@ def _trimmed_candidates(points, x, start, order, lo, inv_cell, ncell, period, re
     """Per point: particles the trimmed rows hold within reach, all they hold, all the 5-cell rows hold,
     and how many trimmed rows reach outside their 5-cell row."""
     out = np.zeros((points.shape[0], 4), dtype=np.int64)
-    width = 1.0 / inv_cell
     for i in range(points.shape[0]):
         p0 = points[i, 0]
         p1 = points[i, 1]
         p2 = points[i, 2] if dim == 3 else 0.0
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
-        fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
+        plan = reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell)
         for row in range(25 if dim == 3 else 5):
-            ka, kb = reach_range(row, cx, cy, cz, fx, fy, fz, width, ncell, start, reach2)
+            ka, kb = reach_range(row, cx, cy, cz, plan, ncell, start, reach2)
             out[i, 1] += kb - ka
             for k in range(ka, kb):
                 j = order[k]
