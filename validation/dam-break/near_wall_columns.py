@@ -42,15 +42,6 @@ COLUMNS = 4
 EVERY = 0.002
 
 
-def _value(text):
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
-
-
 def run(model, resolution, params):
     """One run; returns {height: {quantity: window mean}} and the run's escaped count."""
     from seawall.cases import case_by_name
@@ -146,12 +137,16 @@ def main(argv=None):
         return 0
     if not args.name or not args.model:
         parser.error("give a NAME for the run and a wall MODEL (or --table)")
+    from seawall.errors import ParameterError
+    from seawall.sweep import split_set_item
+
     params = {}
     for item in args.set:
-        key, sep, value = item.partition("=")
-        if not sep:
-            parser.error(f"--set expects KEY=VALUE, got {item!r}")
-        params[key] = _value(value)
+        try:
+            key, value = split_set_item(item)
+        except ParameterError as exc:
+            parser.error(str(exc))
+        params[key] = value.strip()     # text, as `seawall run --set` passes it: the case and model parse it
     heights, escaped = run(args.model, args.resolution, params)
     data = {}
     if os.path.exists(OUT):
