@@ -135,6 +135,14 @@ class Context:
 
         return np.loadtxt(os.path.join(self.data_dir, folder, name), delimiter=",", skiprows=1)
 
+    def result_path(self, filename):
+        """Path of a file the entry keeps beside its result JSON (a series for figures), in
+        :attr:`results_dir` (:func:`run_entry` sets it: the entry's ``results/`` or ``--results DIR``)."""
+        if self.results_dir is None:
+            raise ParameterError("this validation context has no results directory (run the entry with run_entry)")
+        os.makedirs(self.results_dir, exist_ok=True)
+        return os.path.join(self.results_dir, filename)
+
     def plot_path(self, name, suffix=""):
         os.makedirs(self.img_dir, exist_ok=True)
         path = os.path.join(self.img_dir, f"validation_{name}{suffix}.png")

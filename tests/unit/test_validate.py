@@ -117,9 +117,10 @@ def test_an_entry_gets_the_results_directory_for_the_files_it_keeps(tmp_path):
 
     def run(ctx):
         seen.append(ctx.results_dir)
+        open(ctx.result_path("series.csv"), "w").close()
         return {"rows": [], "settings": "none"}
 
     entry = validation.Entry(name="kept-files", title="", run=run, expected_s=1.0)
     out = tmp_path / "results"
     validation.run_entry(entry, quick=True, results=str(out), img_dir=str(tmp_path / "img"))
-    assert seen == [str(out)] and (out / "kept-files.json").exists()
+    assert seen == [str(out)] and (out / "kept-files.json").exists() and (out / "series.csv").exists()

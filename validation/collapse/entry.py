@@ -70,8 +70,7 @@ def run(ctx, shifting=None):
     if not ctx.quick:
         # the front series, kept for figures across entries (docs/validation-notes.md)
         name = "collapse" + (f"-{shifting}" if shifting else "")
-        np.savetxt(os.path.join(ctx.results_dir or os.path.join(HERE, "results"), f"front_series_{name}.csv"),
-                   np.column_stack([T, Z]),
+        np.savetxt(ctx.result_path(f"front_series_{name}.csv"), np.column_stack([T, Z]),
                    delimiter=",", fmt="%.5f", header="T,Z", comments="")
     plt.close(fig)
     return {"rows": rows, "settings": f"case collapse, boundary adami (free slip), dx = a/{A / dx:.0f} "

@@ -74,8 +74,7 @@ def run(ctx, n=50, settings=None, plot=None, series=None):
     ps_raw = p1 / (RHO0 * G * H)
     ps = running_mean(ts, ps_raw, 0.1)
     if series and not ctx.quick:
-        np.savetxt(os.path.join(ctx.results_dir or os.path.join(HERE, "results"), f"{series}.csv"),
-                   np.column_stack([ts, ps_raw, ps]),
+        np.savetxt(ctx.result_path(f"{series}.csv"), np.column_stack([ts, ps_raw, ps]),
                    delimiter=",", fmt="%.5f", header="t_star,p_star,p_star_running_mean_0.1", comments="")
     refs = []
     for fname, label in FILES:
