@@ -49,6 +49,20 @@ def _positive(name):
     return parse
 
 
+def _skin(text):
+    """--neighbour-skin: a fraction of the support in [0, MAX_SKIN]."""
+    from .pair_list import MAX_SKIN
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--neighbour-skin must be a number, got {text!r}") from None
+    if not 0.0 <= value <= MAX_SKIN:
+        raise argparse.ArgumentTypeError(f"--neighbour-skin must be in [0, {MAX_SKIN:g}] (a fraction of the "
+                                         f"kernel support; 0: no pair list), got {text!r}")
+    return value
+
+
 def _positive_int(name):
     def parse(text):
         try:
@@ -117,6 +131,9 @@ def build_parser():
                      help="threads of the compiled loops (default: NUMBA_NUM_THREADS if set, else one per 4000 "
                           "particles, at most the cores)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE", help="case or wall-model parameter")
+    run.add_argument("--neighbour-skin", type=_skin, metavar="FRACTION",
+                     help="skin of the fluid's kept pair list, as a fraction of the kernel support (default 0.1; "
+                          "0: walk the cells every evaluation)")
     run.add_argument("--output-every", type=_positive("--output-every"), help="VTU interval [s]")
     run.add_argument("--probe-every", type=_positive("--probe-every"), help="probe sampling interval [s]")
     run.add_argument("--checkpoint-every", type=_positive("--checkpoint-every"),
@@ -244,6 +261,7 @@ def build_parser():
                        help="split the timed steps into this many chunks and also report their median and best")
     bench.add_argument("--threads", type=_positive_int("--threads"), help="as for run")
     bench.add_argument("--set", action="append", metavar="KEY=VALUE")
+    bench.add_argument("--neighbour-skin", type=_skin, metavar="FRACTION", help="as for run")
     return parser
 
 
@@ -375,6 +393,9 @@ def _build(args):
         raise ParameterError(f"case {case.name!r} takes no dx")
     args.boundary = args.boundary or case.default_boundary
     sim = case.build(boundary=args.boundary, threads=args.threads, **params)
+    skin = getattr(args, "neighbour_skin", None)
+    if skin is not None and hasattr(sim, "set_neighbour_skin"):
+        sim.set_neighbour_skin(skin)
     return case, sim
 
 
@@ -846,7 +867,9 @@ def cmd_bench(args):
             "best_chunk_particle_steps_per_s": rates[-1],
             "compile_seconds": compile_s, "threads": numba.get_num_threads(), "cpu_seconds": cpu_seconds,
             "loops": "threaded" if THREADED else "serial",
-            "dx": fluid.spacing if fluid is not None else None}
+            "dx": fluid.spacing if fluid is not None else None,
+            **({"pair_list_builds": sim.pair_list.builds, "pair_list_evaluations": sim.pair_list.evaluations}
+               if getattr(sim, "pair_list", None) is not None else {})}
     if comm is not None:   # a decomposed run: rank 0's timings (the ranks step together), the ranks' CPU time
         stats = sim.summary_so_far()["mpi"]
         line.update(ranks=comm.Get_size(), cpu_seconds=comm.allreduce(cpu_seconds),

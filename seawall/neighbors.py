@@ -3,9 +3,10 @@
 The domain is cut into cells half the kernel support wide; particles are
 counting-sorted by cell (O(N)), so the neighbours of a particle lie in the
 5^d cells around its own (searching 25 half-width cells covers 42% less
-area than 9 full-width ones in 2D). No pair list is stored: compiled
-interaction loops walk the cells directly, which keeps memory linear in the
-particle count. Every system (fluid, each wall) is sorted into the same grid
+area than 9 full-width ones in 2D). The wall loops walk the cells directly; the
+fluid loop reads its pairs from a list kept over several steps
+(:mod:`seawall.pair_list`, built by a walk of these cells), whose memory is linear
+in the particle count too. Every system (fluid, each wall) is sorted into the same grid
 so that any pair of systems can be searched.
 
 Geometry arrays always have three components (z is a single cell in 2D) so

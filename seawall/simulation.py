@@ -41,7 +41,8 @@ from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
 from .probes import PressureSensor
 from .runner import RunResult, Runner, _progress_bar  # noqa: F401  (RunResult, _progress_bar: their old home)
-from .views import cell_view, fluid_rates_view, fluid_view
+from .pair_list import MAX_SKIN, PairList
+from .views import cell_view, fluid_rates_view, fluid_view, pair_view
 
 
 class Simulation(Runner):
@@ -91,6 +92,11 @@ class Simulation(Runner):
         set in the environment, else one per 4000 fluid and wall particles, at least one and
         at most the cores (``seawall.jit.threads_for``: below that a thread costs more than
         it saves).
+    neighbour_skin : float
+        The fluid loop reads its pairs from a list of those within (1 + ``neighbour_skin``)
+        kernel supports, rebuilt when a particle has moved half the skin or the particles were
+        reordered or removed (:mod:`seawall.pair_list`); default 0.1, at most 0.5. 0: the loop
+        walks the cells every evaluation. Periodic domains always walk the cells.
     flush_subnormals : bool
         Flush subnormal numbers (below 2.2e-308) to zero while the run's loops work (default
         True; x86-64 only, elsewhere ignored). They arise ahead of every disturbance spreading
@@ -106,7 +112,8 @@ class Simulation(Runner):
                  density_band: tuple[float, float] = (0.5, 2.0), threads: int | None = None,
                  metadata: dict[str, Any] | None = None, hull: str | tuple | None = "walls",
                  wall_removal_depth: str | float | None = "support", unstable_fraction: float = 1e-3,
-                 unstable_window: float = 0.05, flush_subnormals: bool = True) -> None:
+                 unstable_window: float = 0.05, flush_subnormals: bool = True,
+                 neighbour_skin: float = 0.1) -> None:
         fluids = [s for s in systems if isinstance(s, FluidSystem)]
         walls = [s for s in systems if isinstance(s, WallSystem)]
         couplings = [s for s in systems if isinstance(s, Coupling)]
@@ -181,6 +188,7 @@ class Simulation(Runner):
 
         self.physics = self._compile_physics(g)
         self.grid = self._make_grid(domain, periodic)
+        self.pair_list = self._make_pair_list(neighbour_skin)
         self._check_overlap()
         self._check_hull()
         fp = self.fluid.particles
@@ -210,12 +218,37 @@ class Simulation(Runner):
 
         self._init_run_state()      # time, step, probes, outputs (seawall.runner)
         self.fluid_cells = None
+        self._reordered_at = 0
         self._rates_ready = False
         self.escaped = []           # (time, id, x..., reason) of removed particles
         self.escaped_mass = 0.0
         for coupling in self.couplings:
             coupling.prepare(self)
         self._check_edac()
+
+    def set_neighbour_skin(self, skin):
+        """Use a pair list with this skin (a fraction of the support, see ``neighbour_skin``), or none (0)."""
+        self.pair_list = self._make_pair_list(skin)
+
+    def _make_pair_list(self, skin):
+        """The fluid loop's :class:`~seawall.pair_list.PairList`, or None (no skin, or a periodic grid)."""
+        try:
+            skin = float(skin)
+        except (TypeError, ValueError):
+            raise ParameterError(f"neighbour_skin must be a number in [0, {MAX_SKIN:g}], got {skin!r}") from None
+        if not 0.0 <= skin <= MAX_SKIN:
+            raise ParameterError(f"neighbour_skin must be in [0, {MAX_SKIN:g}] (a fraction of the kernel support; "
+                                 f"0: no pair list), got {skin!r}")
+        if skin == 0.0 or self.grid.periodic_any:
+            return None
+        return PairList(skin, math.sqrt(self.physics.support2))
+
+    def _fluid_pairs(self, cells):
+        """The fluid loop's :class:`~seawall.views.PairView` for this evaluation's positions."""
+        if self.pair_list is None:
+            return pair_view()
+        fp = self.fluid.particles
+        return pair_view(*self.pair_list.current(self.grid, cells, fp["x"], fp["id"]))
 
     # ------------------------------------------------------------------ regularisation
     def _allocate_regularisation(self):
@@ -556,7 +589,8 @@ class Simulation(Runner):
             # rates the one below overwrites) accumulates it, so that the default run never compiles
             # renormalised_density_gradient (about a tenth of its compile time)
             fp["grad_rho"][:] = 0.0
-            fluid_rates(fluid_view(fp), cell_view(g, cells), fp["grad_rho"], prm, ctx.rates, fp["grad_rho_next"],
+            fluid_rates(fluid_view(fp), cell_view(g, cells), self._fluid_pairs(cells), fp["grad_rho"], prm, ctx.rates,
+                        fp["grad_rho_next"],
                         scheme_tag(prm), fp["dp"] if prm.edac else self._empty_scalar)
             fp["grad_rho"], fp["grad_rho_next"] = fp["grad_rho_next"], fp["grad_rho"]
             grad = fp["grad_rho"]
@@ -569,7 +603,7 @@ class Simulation(Runner):
             grad = fp["grad_rho"]
         else:
             grad = self._empty_grad
-        fluid_rates(fluid_view(fp), cell_view(g, cells), grad, prm, ctx.rates,
+        fluid_rates(fluid_view(fp), cell_view(g, cells), self._fluid_pairs(cells), grad, prm, ctx.rates,
                     fp["grad_rho_next"] if lagged else self._empty_grad, scheme_tag(prm),
                     fp["dp"] if prm.edac else self._empty_scalar)
         if lagged:
@@ -627,8 +661,17 @@ class Simulation(Runner):
         x = fp["x"]
         if np.any(self.grid.period > 0):
             self.grid.wrap(x)
-        if self.step % self.reorder_every == 0 and fp.n:
+        if fp.n and self._reorder_due():
             fp.permute(self.grid.build(fp["x"]).order)
+            self._reordered_at = self.step
+
+    def _reorder_due(self):
+        """Every ``reorder_every`` steps; with a pair list, from then on at its next rebuild (a reorder
+        makes it rebuild: the two then come together instead of adding rebuilds)."""
+        if self.step - self._reordered_at < self.reorder_every and self.step != 0:
+            return False
+        fp = self.fluid.particles
+        return self.pair_list is None or self.pair_list.stale(fp["x"], fp["id"])
 
     # ------------------------------------------------------------------ guards (seawall.health)
     def _check_hull(self):
@@ -835,6 +878,8 @@ class Simulation(Runner):
             **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
                if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
             "hull": _hull_summary(self.hull_box()),
+            # the fluid loop's pairs: a kept list and how often it was rebuilt, or the cell walk
+            "pair_list": self.pair_list.describe() if self.pair_list is not None else {"skin": 0.0},
             **({"couplings": {c.name: {"model": c.describe(), **c.summary()} for c in self.couplings}}
                if self.couplings else {}),
         }
@@ -849,6 +894,8 @@ class Simulation(Runner):
         # one row per removed particle: time, id, position, reason as its index in REASONS
         rows = [(*rec[:2 + self.dim], float(REASONS.index(record_reason(rec, self.dim)))) for rec in self.escaped]
         arrays["escaped"] = {"records": np.asarray(rows, dtype=np.float64).reshape(len(rows), 3 + self.dim)}
+        if self.pair_list is not None and self.pair_list.state():
+            arrays["pair_list"] = self.pair_list.state()
         return arrays
 
     def _state_attrs(self):
@@ -856,6 +903,7 @@ class Simulation(Runner):
                 "wall_model_state": {w.name: w.model.state() for w in self.walls},
                 "coupling_state": {c.name: c.state() for c in self.couplings},
                 "n_fluid_initial_mass": self.fluid.initial_mass,
+                "reordered_at": self._reordered_at,
                 "physics": dict(self.physics._asdict())}
 
     def _check_state(self, path, arrays, attrs):
@@ -898,6 +946,9 @@ class Simulation(Runner):
             self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), REASONS[int(r[2 + dim])]) for r in records]
         else:   # checkpoints before the removal guards: every removal left the domain
             self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), "domain") for r in records]
+        self._reordered_at = int(attrs.get("reordered_at", 0))
+        if self.pair_list is not None:
+            self.pair_list.set_state(self.grid, arrays.get("pair_list", {}))
         self._rates_ready = True
         self.fluid_cells = self.grid.build(self.fluid.particles["x"])
 

@@ -30,6 +30,17 @@ class CellView(NamedTuple):
     reach: np.ndarray    # 1 for cells within reach of some particle (empty: not computed)
 
 
+class PairView(NamedTuple):
+    """The fluid's listed pairs (:class:`seawall.pair_list.PairList`): the neighbours of particle i are
+    ``index[i * stride:i * stride + counts[i]]``. ``listed`` is a zero-size array whose number of axes
+    says whether there is a list (2) or the loop walks the cells (1): a compile-time switch."""
+
+    listed: np.ndarray
+    stride: int
+    counts: np.ndarray
+    index: np.ndarray
+
+
 class FluidView(NamedTuple):
     """The fluid's state at one evaluation."""
 
@@ -76,6 +87,16 @@ def cell_view(grid, cells, reach=False):
     """The :class:`CellView` of ``cells`` in ``grid``; ``reach`` adds the reach mask (wall cells)."""
     mask = cells.reach_mask(grid) if reach else _NO_REACH
     return CellView(grid.layout, grid.lo, grid.inv_cell, grid.ncell, grid.period, cells.start, cells.order, mask)
+
+
+_NO_PAIRS = PairView(np.empty((0,)), 0, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int32))
+
+
+def pair_view(stride=None, counts=None, index=None):
+    """The :class:`PairView` of a pair list's arrays, or (no arguments) of none: the loop walks the cells."""
+    if stride is None:
+        return _NO_PAIRS
+    return PairView(np.empty((0, 0)), int(stride), counts, index)
 
 
 def fluid_view(particles):

@@ -207,11 +207,14 @@ def tag_value(tag):
 
 
 @particle_loop()
-def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
+def fluid_rates(fluid, cells, pairs, grad_rho, prm, rates, grad_rho_next, scheme, dp):
     """Fluid-fluid contributions to dv/dt, drho/dt and the XSPH velocity correction.
 
     ``fluid`` is a :class:`~seawall.views.FluidView`, ``cells`` the fluid's
     :class:`~seawall.views.CellView`, ``rates`` a :class:`~seawall.views.Rates`.
+    ``pairs`` a :class:`~seawall.views.PairView`: with a list (:mod:`seawall.pair_list`) each
+    particle's candidates are its listed pairs, else those of the cell walk; either way the pairs
+    beyond the support are skipped.
     Overwrites ``rates.dv``, ``rates.drho``, ``rates.xsph``; ``rates.mu_max[i]``
     receives max_j |mu_ij| for the Monaghan-Kos time-step criterion ([Li2022],
     eq. 11). Gravity is added here too, so wall models only add their own terms
@@ -267,7 +270,8 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
         renorm = diffusion == DIFFUSION_RENORMALISED
         dim = tag_dim(layout)   # likewise: computed outside, dim and periodicity would not fold
         periodic = tag_periodic(layout)
-        nrows = 25 if dim == 3 else 5
+        listed = tag_value(pairs.listed) != 0
+        nrows = 1 if listed else (25 if dim == 3 else 5)
         p0, p1, p2 = point_of(x, i, dim)
         cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
         plan = reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell)
@@ -298,13 +302,16 @@ def fluid_rates(fluid, cells, grad_rho, prm, rates, grad_rho_next, scheme, dp):
         else:
             vol_i = inv_m_i = 0.0
         for row in range(nrows):
-            for part in range(2 if periodic else 1):
-                if periodic:
+            for part in range(2 if periodic and not listed else 1):
+                if listed:
+                    ka = i * pairs.stride
+                    kb = ka + pairs.counts[i]
+                elif periodic:
                     ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
                 else:  # only the cells the support reaches: the same pairs, fewer candidates
                     ka, kb = reach_range(row, cx, cy, cz, plan, ncell, start, prm.support2)
                 for k in range(ka, kb):
-                    j = order[k]
+                    j = pairs.index[k] if listed else order[k]
                     if j == i:
                         continue
                     d0, d1, d2, r2 = separation(p0, p1, p2, x, j, dim, periodic, period)

@@ -251,6 +251,8 @@ class DistributedSimulation:
         self._halo_send = None
         self._halo_counts = None
         self._halo_fresh = False
+        # the halo is rebuilt before every step, so a kept pair list would be rebuilt at every evaluation
+        self.pair_list = None
         self.mpi_stats = {"rebalances": 0, "exchanges": 0, "comm_seconds": 0.0, "halo_rows": 0, "halo_samples": 0}
 
     # ---------------------------------------------------------------- helpers

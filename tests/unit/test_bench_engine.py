@@ -19,6 +19,9 @@ def test_versus_commit_is_a_part_with_its_reference_and_steps():
     assert defaults.reference == "f56cb9a" and defaults.only is None
     assert bench_engine.command_line(defaults) == "--rounds 3 --steps-3d 60"
     assert "versus-commit" in bench_engine.PARTS
+    flow = bench_engine.build_parser().parse_args(["--only", "versus-commit", "--flow-3d", "0.3"])
+    assert flow.flow_3d == 0.3 and defaults.flow_3d == 0.0
+    assert bench_engine.command_line(flow) == "--only versus-commit --rounds 3 --steps-3d 60 --flow-3d 0.3"
 
 
 def test_versus_commit_block_gives_the_median_speedup_and_every_round(tmp_path, monkeypatch):
