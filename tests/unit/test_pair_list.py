@@ -31,15 +31,24 @@ def random_set(dim, n=500, seed=0):
     return np.ascontiguousarray(x)
 
 
+SUPPORT = 0.13
+
+
+def built_list(skin, n=500, dim=3):
+    """A random set (:func:`random_set`), its ids and a list of its pairs built with this skin."""
+    x = random_set(dim, n=n)
+    ids = np.arange(x.shape[0])
+    grid = CellGrid(np.zeros(dim), np.ones(dim), SUPPORT)
+    pl = PairList(skin, SUPPORT)
+    pl.current(grid, grid.build(x), x, ids)
+    return x, ids, grid, pl
+
+
 @pytest.mark.parametrize("dim", [2, 3])
 @pytest.mark.parametrize("skin", [0.1, MAX_SKIN])
 def test_the_list_holds_every_pair_within_support_plus_skin(dim, skin):
-    support = 0.13
-    x = random_set(dim)
-    grid = CellGrid(np.zeros(dim), np.ones(dim), support)
-    pl = PairList(skin, support)
-    pl.current(grid, grid.build(x), x, np.arange(x.shape[0]))
-    expected = brute_pairs(x, support * (1.0 + skin))
+    x, _, _, pl = built_list(skin, dim=dim)
+    expected = brute_pairs(x, SUPPORT * (1.0 + skin))
     for i in range(x.shape[0]):
         got = listed(pl, i)
         assert len(got) == len(set(got)), i
@@ -48,26 +57,18 @@ def test_the_list_holds_every_pair_within_support_plus_skin(dim, skin):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_a_particle_with_more_pairs_than_the_room_makes_the_build_walk_again(dim):
-    support = 0.13
-    x = random_set(dim)
-    grid = CellGrid(np.zeros(dim), np.ones(dim), support)
-    pl = PairList(0.1, support)
+    x, ids, grid, pl = built_list(0.1, dim=dim)
     pl.stride = 2                      # far too little room: the build must grow it and walk again
-    pl.current(grid, grid.build(x), x, np.arange(x.shape[0]))
+    pl._build(grid, grid.build(x), x, ids)
     assert pl.stride > pl.counts.max() >= 2
-    expected = brute_pairs(x, support * 1.1)
+    expected = brute_pairs(x, SUPPORT * 1.1)
     assert all(set(listed(pl, i)) == expected[i] for i in range(x.shape[0]))
 
 
 def test_rebuilt_when_a_particle_moved_half_the_skin_or_the_particles_changed():
-    support = 0.13
-    x = random_set(3)
-    ids = np.arange(x.shape[0])
-    grid = CellGrid(np.zeros(3), np.ones(3), support)
-    pl = PairList(0.2, support)
-    pl.current(grid, grid.build(x), x, ids)
+    x, ids, grid, pl = built_list(0.2)
     assert pl.builds == 1
-    half_skin = 0.5 * 0.2 * support
+    half_skin = 0.5 * 0.2 * SUPPORT
     moved = x.copy()
     moved[7, 1] += 0.99 * half_skin
     assert not pl.stale(moved, ids)
@@ -81,31 +82,21 @@ def test_rebuilt_when_a_particle_moved_half_the_skin_or_the_particles_changed():
 
 
 def test_moves_within_half_the_skin_lose_no_pair_within_the_support():
-    support = 0.13
     skin = 0.2
-    x = random_set(3, n=800)
-    ids = np.arange(x.shape[0])
-    grid = CellGrid(np.zeros(3), np.ones(3), support)
-    pl = PairList(skin, support)
-    pl.current(grid, grid.build(x), x, ids)
+    x, ids, grid, pl = built_list(skin, n=800)
     rng = np.random.default_rng(5)
     step = rng.normal(size=x.shape)
-    step *= 0.999 * 0.5 * skin * support / np.linalg.norm(step, axis=1)[:, None]
+    step *= 0.999 * 0.5 * skin * SUPPORT / np.linalg.norm(step, axis=1)[:, None]
     moved = x + step
     assert not pl.stale(moved, ids)
-    now = brute_pairs(moved, support)
+    now = brute_pairs(moved, SUPPORT)
     for i in range(x.shape[0]):
         assert now[i] <= set(listed(pl, i)), i
 
 
 def test_a_checkpointed_list_is_rebuilt_exactly():
-    support = 0.13
-    x = random_set(3)
-    ids = np.arange(x.shape[0])
-    grid = CellGrid(np.zeros(3), np.ones(3), support)
-    pl = PairList(0.1, support)
-    pl.current(grid, grid.build(x), x, ids)
-    again = PairList(0.1, support)
+    x, ids, grid, pl = built_list(0.1)
+    again = PairList(0.1, SUPPORT)
     again.set_state(grid, pl.state())
     assert again.stride == pl.stride and again.builds == 0
     assert np.array_equal(again.counts, pl.counts) and np.array_equal(again.index, pl.index)
