@@ -2,8 +2,9 @@
 
 The cell walk (:func:`seawall.neighbors.reach_range`) tests every particle of the cells a
 particle's support touches: in the 3D dam break 156 candidates for 71 neighbours, and the walk
-with its distance tests took 18.5 ms of the fluid loop's 48 (one thread, docs/performance.md,
-"Pairs kept over steps"). Walking a list of the pairs instead took 4.7 ms.
+with its distance tests alone took 14.9-18.5 ms per pass, of the fluid loop's 48 (one thread,
+stand-alone loops; docs/performance.md, "Pairs kept over steps"). Reading the same pairs from a
+list took 4.7 ms.
 
 So the fluid loop may read its pairs from a list, built by the same cell walk with the radius
 enlarged by a *skin*: every pair closer than support + skin, for each particle in the order the
@@ -16,8 +17,8 @@ was then: the sums may differ from the walk's in the last bits).
 
 :class:`PairList` decides when to rebuild: when the particles are not the same ones in the same
 order as at the build (reordering, removals, additions: compared by id), or when one moved more
-than half the skin. Memory: one int32 per listed pair and an offset per particle, linear in the
-particle count (3D dam break: about 110 pairs per particle with a skin of 0.1 support).
+than half the skin. Memory: room for ``stride`` int32 pairs and a count per particle, linear in
+the particle count (3D dam break, skin 0.1: room for 116, 81 listed on average; 12.5 MB).
 
 The build walks up to three cells each way (cells are half a support wide, so the skin may be
 at most half a support) and trims every row of cells to the sphere it must cover, as

@@ -946,7 +946,9 @@ class Simulation(Runner):
             self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), REASONS[int(r[2 + dim])]) for r in records]
         else:   # checkpoints before the removal guards: every removal left the domain
             self.escaped = [(r[0], int(r[1]), *r[2:2 + dim].tolist(), "domain") for r in records]
-        self._reordered_at = int(attrs.get("reordered_at", 0))
+        # checkpoints before the pair list reordered every reorder_every steps counted from 0
+        step = int(attrs["step"])
+        self._reordered_at = int(attrs.get("reordered_at", step - step % self.reorder_every))
         if self.pair_list is not None:
             self.pair_list.set_state(self.grid, arrays.get("pair_list", {}))
         self._rates_ready = True
