@@ -50,17 +50,14 @@ def _positive(name):
 
 
 def _skin(text):
-    """--neighbour-skin: a fraction of the support in [0, MAX_SKIN]."""
-    from .pair_list import MAX_SKIN
+    """--neighbour-skin: a fraction of the support in [0, MAX_SKIN] (seawall.pair_list.check_skin)."""
+    from .errors import ParameterError
+    from .pair_list import check_skin
 
     try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--neighbour-skin must be a number, got {text!r}") from None
-    if not 0.0 <= value <= MAX_SKIN:
-        raise argparse.ArgumentTypeError(f"--neighbour-skin must be in [0, {MAX_SKIN:g}] (a fraction of the "
-                                         f"kernel support; 0: no pair list), got {text!r}")
-    return value
+        return check_skin(text)
+    except ParameterError as exc:
+        raise argparse.ArgumentTypeError(f"--{str(exc).replace('_', '-')}") from None
 
 
 def _positive_int(name):

@@ -258,7 +258,7 @@ def cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell):
 
 
 @loop_helper
-def _gap(offset, frac, width):
+def cell_gap(offset, frac, width):
     """Distance from a point at ``frac`` of its cell to the cell ``offset`` cells away, along one axis [m].
 
     The face towards the point: offset +1 and +2 are (1 - frac) and (2 - frac) widths away, -1 and
@@ -274,18 +274,18 @@ def _gap(offset, frac, width):
 
 @loop_helper
 def _squared_gaps(frac, width):
-    """The squared :func:`_gap` to the cells at offsets -2, -1, +1, +2 along one axis."""
-    gm2 = _gap(-2, frac, width)
-    gm1 = _gap(-1, frac, width)
-    gp1 = _gap(1, frac, width)
-    gp2 = _gap(2, frac, width)
+    """The squared :func:`cell_gap` to the cells at offsets -2, -1, +1, +2 along one axis."""
+    gm2 = cell_gap(-2, frac, width)
+    gm1 = cell_gap(-1, frac, width)
+    gp1 = cell_gap(1, frac, width)
+    gp2 = cell_gap(2, frac, width)
     return gm2 * gm2, gm1 * gm1, gp1 * gp1, gp2 * gp2
 
 
 @loop_helper
 def reach_plan(p0, p1, p2, cx, cy, cz, lo, inv_cell):
     """What :func:`reach_range` needs of a point, computed once per particle: the squared gaps
-    (:func:`_gap`) from the point to the cells 2 and 1 before and 1 and 2 after its own, per axis
+    (:func:`cell_gap`) from the point to the cells 2 and 1 before and 1 and 2 after its own, per axis
     (x, y, z; 12 values; z's are those of a 2D point too, and unused)."""
     fx, fy, fz = cell_fractions(p0, p1, p2, cx, cy, cz, lo, inv_cell)
     xm2, xm1, xp1, xp2 = _squared_gaps(fx, 1.0 / inv_cell[0])

@@ -26,25 +26,35 @@ at most half a support) and trims every row of cells to the sphere it must cover
 ones keep the cell walk.
 """
 
+import math
+
 import numpy as np
 from numba import prange
 
 from .errors import ParameterError
 from .jit import loop_helper, particle_loop
-from .neighbors import cell_fractions, cell_index, point_of, tag_dim
+from .neighbors import cell_fractions, cell_gap, cell_index, point_of, tag_dim
 
 #: the skin may be at most this fraction of the support (the build's walk reaches three cells)
 MAX_SKIN = 0.5
 
 
+def check_skin(skin):
+    """``neighbour_skin`` as a float in [0, MAX_SKIN] (0: no pair list), or a ParameterError naming it."""
+    try:
+        value = float(skin)
+    except (TypeError, ValueError):
+        value = math.nan
+    if not 0.0 <= value <= MAX_SKIN:
+        raise ParameterError(f"neighbour_skin must be in [0, {MAX_SKIN:g}] (a fraction of the kernel support; "
+                             f"0: no pair list), got {skin!r}")
+    return value
+
+
 @loop_helper
 def _gap2(offset, frac, width):
-    """Squared distance from a point at ``frac`` of its cell to the cell ``offset`` cells away along
-    one axis (0 for its own), shrunk by 1e-9 of a width: a lower bound, as
-    :func:`seawall.neighbors._gap` (which also says why it holds for particles clamped into edge cells)."""
-    if offset == 0:
-        return 0.0
-    g = max((offset - frac if offset > 0 else frac - offset - 1.0) - 1e-9, 0.0) * width
+    """The square of :func:`seawall.neighbors.cell_gap` (a lower bound of the distance to that cell)."""
+    g = cell_gap(offset, frac, width)
     return g * g
 
 
@@ -134,16 +144,15 @@ class PairList:
     Parameters
     ----------
     skin : float
-        The skin as a fraction of the kernel support, in (0, 0.5].
+        The skin as a fraction of the kernel support, in (0, 0.5] (:func:`check_skin`).
     support : float
         The kernel support [m].
     """
 
     def __init__(self, skin, support):
-        skin = float(skin)
-        if not 0.0 < skin <= MAX_SKIN:
-            raise ParameterError(f"neighbour_skin must be in (0, {MAX_SKIN:g}] (a fraction of the support), "
-                                 f"or 0 for no pair list; got {skin!r}")
+        skin = check_skin(skin)
+        if skin == 0.0:
+            raise ParameterError("neighbour_skin = 0 means no pair list: make none")
         self.skin = skin
         self.radius2 = (support * (1.0 + skin)) ** 2
         # moved more than half the skin: a pair may have come within the support unlisted
@@ -169,6 +178,7 @@ class PairList:
         self.evaluations += 1
         if self.stale(x, ids):
             self._build(grid, cells, x, ids)
+            self.builds += 1
         return self.stride, self.counts, self.index
 
     def stale(self, x, ids):
@@ -191,7 +201,6 @@ class PairList:
         if "x_ref" in state:
             x = np.ascontiguousarray(state["x_ref"])
             self._build(grid, grid.build(x), x, np.asarray(state["ids_ref"]))
-            self.builds -= 1   # not a rebuild of the run's
 
     def _build(self, grid, cells, x, ids):
         n = x.shape[0]
@@ -208,4 +217,3 @@ class PairList:
             self.stride = most + most // 4 + 1
         self._x_ref = x.copy()
         self._ids_ref = ids.copy()
-        self.builds += 1
