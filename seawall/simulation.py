@@ -41,7 +41,7 @@ from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
 from .probes import PressureSensor
 from .runner import RunResult, Runner, _progress_bar  # noqa: F401  (RunResult, _progress_bar: their old home)
-from .pair_list import MAX_SKIN, PairList
+from .pair_list import PairList, check_skin
 from .views import cell_view, fluid_rates_view, fluid_view, pair_view
 
 
@@ -180,6 +180,9 @@ class Simulation(Runner):
         #: wall name -> force of the fluid on it at the last evaluation [N (per m in 2D)]; filled for
         #: the walls a WallForce probe asks about
         self.wall_forces = {}
+        #: wall name -> the acceleration it added to each fluid particle at the last evaluation
+        #: [m/s^2]; kept for the walls in ``wall_forces`` (their force is its mass-weighted sum)
+        self.wall_accelerations = {}
         #: force of the fluid on each wall particle (seawall.boundary.particle_forces), recorded at the
         #: evaluations the runner asks for (record_particle_forces) for the VTU frames
         self.record_particle_forces = False
@@ -232,13 +235,7 @@ class Simulation(Runner):
 
     def _make_pair_list(self, skin):
         """The fluid loop's :class:`~seawall.pair_list.PairList`, or None (no skin, or a periodic grid)."""
-        try:
-            skin = float(skin)
-        except (TypeError, ValueError):
-            raise ParameterError(f"neighbour_skin must be a number in [0, {MAX_SKIN:g}], got {skin!r}") from None
-        if not 0.0 <= skin <= MAX_SKIN:
-            raise ParameterError(f"neighbour_skin must be in [0, {MAX_SKIN:g}] (a fraction of the kernel support; "
-                                 f"0: no pair list), got {skin!r}")
+        skin = check_skin(skin)
         if skin == 0.0 or self.grid.periodic_any:
             return None
         return PairList(skin, math.sqrt(self.physics.support2))
@@ -613,10 +610,12 @@ class Simulation(Runner):
             if wall.name in self.wall_forces:
                 before = fp["dv"].copy()
                 self._wall_acts(wall, ctx)
+                added = fp["dv"] - before
+                self.wall_accelerations[wall.name] = added
                 # force of the fluid on the wall = minus what the wall adds to m_i dv_i (pairwise forms);
                 # over the particles this process owns (all of them unless the run is decomposed)
                 n = self._owned_rows()
-                self.wall_forces[wall.name] = -np.sum(fp["m"][:n, None] * (fp["dv"][:n] - before[:n]), axis=0)
+                self.wall_forces[wall.name] = -np.sum(fp["m"][:n, None] * added[:n], axis=0)
             else:
                 self._wall_acts(wall, ctx)
             if self.record_particle_forces and defines_particle_forces(wall):

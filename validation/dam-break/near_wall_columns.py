@@ -54,26 +54,15 @@ def run(model, resolution, params):
     h = sim.h
     rhogh = RHO0 * G * H
     t0, t1 = (t / math.sqrt(G / H) for t in T_STAR)
-    state = {}
-    acts = sim._wall_acts
-
-    def recording(wall, ctx):
-        fp = sim.fluid.particles
-        if wall is tank and t0 <= sim.time <= t1:
-            before = fp["dv"].copy()
-            acts(wall, ctx)
-            state["dv"] = fp["dv"] - before
-        else:
-            acts(wall, ctx)
-    sim._wall_acts = recording
     samples = {y: [] for y in HEIGHTS}
 
     class Columns(Probe):
         unit = "-"
+        wall = "tank"   # asks the simulation to keep the tank's accelerations of the fluid
 
         def sample(self, s):
-            dv = state.pop("dv", None)
-            if dv is None or dv.shape[0] != s.fluid.particles.n:
+            dv = s.wall_accelerations.get(self.wall)
+            if not t0 <= s.time <= t1 or dv is None or dv.shape[0] != s.fluid.particles.n:
                 return float("nan")
             fp = s.fluid.particles
             x, p, m = fp["x"], fp["p"], fp["m"]

@@ -156,26 +156,13 @@ def _force_probe_class():
 
         unit = "Pa"
 
-        def __init__(self, name, length, y, dx, store):
+        def __init__(self, name, length, y, dx):
             super().__init__(name)
-            self.wall = "tank"          # asks the simulation to evaluate this wall's force
-            self.length, self.y, self.dx, self.store = length, y, dx, store
-
-        def attach(self, sim):
-            if self.store.get("wrapped"):
-                return
-            original = sim._wall_acts
-
-            def recording(wall, ctx):
-                fp = sim.fluid.particles
-                before = fp["dv"].copy()
-                original(wall, ctx)
-                self.store["dv"] = fp["dv"] - before
-            sim._wall_acts = recording
-            self.store["wrapped"] = True
+            self.wall = "tank"          # asks the simulation to keep this wall's force and accelerations
+            self.length, self.y, self.dx = length, y, dx
 
         def sample(self, sim):
-            dvw = self.store.get("dv")
+            dvw = sim.wall_accelerations.get(self.wall)
             fp = sim.fluid.particles
             if dvw is None or dvw.shape[0] != fp.n:
                 return float("nan")
@@ -197,7 +184,6 @@ def add_probes(sim, H, dx, snapshots=None):
     length = sim.probes[[p.name for p in sim.probes].index("P1")].point[0]
     layer = _layer_probe_class()
     force = _force_probe_class()
-    store = {}
     added = []
     for frac in HEIGHTS:
         y = frac * H
@@ -205,7 +191,7 @@ def add_probes(sim, H, dx, snapshots=None):
                   probes.Pressure(probe_name("int1.6", frac), (length - 1.6 * dx, y)),
                   probes.PressureSensor(probe_name("face", frac), (length, y)),
                   layer(probe_name("layer", frac), length, y, dx),
-                  force(probe_name("force", frac), length, y, dx, store)]
+                  force(probe_name("force", frac), length, y, dx)]
     if snapshots is not None:
         added.append(_snapshot_probe_class()(snapshots, length, H))
     sim.add(*added)
