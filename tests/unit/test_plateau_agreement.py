@@ -24,6 +24,19 @@ def test_slip_group_follows_the_name_unless_an_option_says():
     assert group(_record("liu2015-noslip", [0] * 5, {"slip": "free"})) == "free slip"
 
 
+def test_slip_group_reads_the_model_default_slip():
+    group = plateau_profiles.slip_group
+    # mdbc keeps the wall's own velocity (vel0): the fluid's viscosity acts across a still wall
+    assert group(_record("mdbc", [0] * 5)) == "no slip"
+    assert group(_record("mdbc", [0] * 5, {"clip_negative": "1"})) == "no slip"
+    assert group(_record("mdbc-noslip", [0] * 5)) == "no slip"
+    # no slip option at all: no viscosity across the wall
+    for model in ("dbc", "idbc", "liu2012", "monaghan-kajtar"):
+        assert group(_record(model, [0] * 5)) == "free slip"
+    assert group(_record("ghost-mls1", [0] * 5, {"reflect": "1"})) == "free slip"
+    assert group(_record("lust", [0] * 5)) == "free slip"
+
+
 def test_spread_per_height_within_each_group_and_the_farthest_run():
     models = {
         "a": _record("a", [1.0, 0.9, 0.8, 0.5, 0.3]),
