@@ -57,7 +57,8 @@ def _skin(text):
     try:
         return check_skin(text)
     except ParameterError as exc:
-        raise argparse.ArgumentTypeError(f"--{str(exc).replace('_', '-')}") from None
+        # the option's name as typed; the rest of the message (the value given included) as it is
+        raise argparse.ArgumentTypeError(str(exc).replace("neighbour_skin", "--neighbour-skin", 1)) from None
 
 
 def _positive_int(name):
