@@ -1,0 +1,54 @@
+"""validation/dam-break/wall_layers.py on a made-up snapshot: gap, wall layer, floor, deepest particle."""
+
+import importlib.util
+import os
+
+import numpy as np
+
+from seawall.validation import ROOT
+
+SPEC = importlib.util.spec_from_file_location("wall_layers",
+                                              os.path.join(ROOT, "validation", "dam-break", "wall_layers.py"))
+wall_layers = importlib.util.module_from_spec(SPEC)
+SPEC.loader.exec_module(wall_layers)
+
+
+def _snapshot(tmp_path, dx=0.006, length=1.608):
+    H = wall_layers.H
+    rho_g_h = wall_layers.RHO_G_H
+    ys = np.arange(0.5 * dx, 0.6 * H, dx)
+    # three layers of the downstream wall (first layer at 2 rho g H, the others at 0) and of the floor
+    side = [(length + (k + 0.5) * dx, y, 2.0 * rho_g_h if k == 0 else 0.0) for k in range(3) for y in ys]
+    xs = np.arange(length - 0.5 * H + 0.5 * dx, length, dx)
+    floor = [(x, -(k + 0.5) * dx, (-1.0 if i % 4 == 0 else 1.0) * rho_g_h if k == 0 else 0.0)
+             for k in range(3) for i, x in enumerate(xs)]
+    w = np.array(side + floor)
+    # fluid: a column 1.5 dx off the wall at every height, one particle 0.5 dx inside the floor
+    fx = np.array([(length - 1.5 * dx, y) for y in ys] + [(length - 5 * dx, -0.5 * dx)])
+    fv = np.zeros_like(fx)
+    fv[-1] = (1.2, 0.0)
+    t = 3.5 / np.sqrt(wall_layers.G / H)
+    np.savez(tmp_path / "plateau_snapshots.npz", f0_x=fx, f0_v=fv, w0_x=w[:, :2], w0_p=w[:, 2], t0=np.array(t))
+    return tmp_path, len(range(0, len(xs), 4)) / len(xs)
+
+
+def test_geometry_reads_the_spacing_and_the_wall_surface():
+    w = np.array([(1.611, 0.1), (1.617, 0.1), (1.623, 0.1), (1.611, 0.106)])
+    dx, length = wall_layers.geometry(w)
+    assert abs(dx - 0.006) < 1e-12
+    assert abs(length - 1.608) < 1e-12
+
+
+def test_rows_give_gap_wall_layer_floor_and_deepest(tmp_path):
+    path, negative = _snapshot(tmp_path)
+    rows = wall_layers.snapshot_rows(str(path))
+    assert len(rows) == 1
+    r = rows[0]
+    assert abs(r["t_star"] - 3.5) < 1e-12
+    for gap, wall1 in r["heights"].values():
+        assert abs(gap - 1.5) < 1e-9
+        assert abs(wall1 - 2.0) < 1e-9
+    assert abs(r["floor_negative"] - negative) < 1e-12     # every fourth particle of the floor's first layer
+    assert r["floor_median"] == 1.0
+    depth, pos, vel = r["deepest"]
+    assert abs(depth + 0.5) < 1e-9 and vel[0] == 1.2

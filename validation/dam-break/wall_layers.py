@@ -1,0 +1,82 @@
+"""What the wall particles hold near the downstream corner of the dam break (issue 15, item 7).
+
+    python validation/dam-break/wall_layers.py RUN_DIR [RUN_DIR ...]
+
+For each snapshot of a run (t sqrt(g/H) = 3.5, 4, 4.5, 5; ``plateau_snapshots.npz`` of the leak
+sweep or of plateau_diagnostics.py) and each height y/H of the plateau profile, prints
+
+* ``gap``: the mean distance from the downstream wall's surface of the two fluid particles nearest
+  to it within y +- dx, in dx -- how far the wall keeps its fluid off;
+* ``wall1``: the median pressure of the wall's first particle layer within y +- 2 dx, in rho g H
+  -- what the wall particles hold, against the fluid's ~0.4-1 rho g H there;
+
+and, for the floor's first layer within 0.5 H of the downstream wall (the part the snapshots
+keep), the median pressure and the fraction below zero; and the fluid particle deepest behind any
+wall surface (signed distance in dx, position, velocity). dx is read from the wall's spacing.
+"""
+
+import os
+import sys
+
+import numpy as np
+
+H = 0.3
+G = 9.81
+RHO_G_H = 1000.0 * G * H
+HEIGHTS = (0.01, 0.05, 0.1, 0.2, 0.27)
+
+
+def geometry(wall_x):
+    """(spacing, x of the downstream wall's surface) from the snapshot's wall particles."""
+    side = (wall_x[:, 1] > 0.05 * H) & (wall_x[:, 1] < 1.5 * H)
+    columns = np.unique(np.round(wall_x[side, 0], 9))
+    spacing = columns[1] - columns[0]
+    return spacing, columns[0] - 0.5 * spacing
+
+
+def snapshot_rows(path):
+    """One dict per snapshot of the run directory ``path`` (see the module docstring)."""
+    d = np.load(os.path.join(path, "plateau_snapshots.npz"))
+    rows = []
+    k = 0
+    while f"t{k}" in d.files:
+        x, v, wx, wp = d[f"f{k}_x"], d[f"f{k}_v"], d[f"w{k}_x"], d[f"w{k}_p"]
+        dx, length = geometry(wx)
+        s = length - x[:, 0]                       # distance from the downstream wall's surface
+        row = {"t_star": float(d[f"t{k}"]) * np.sqrt(G / H), "dx": dx, "heights": {}}
+        for frac in HEIGHTS:
+            y = frac * H
+            band = np.abs(x[:, 1] - y) < dx
+            gap = float(np.sort(s[band])[:2].mean() / dx) if band.sum() >= 2 else float("nan")
+            first = (np.abs(wx[:, 0] - (length + 0.5 * dx)) < 1e-6) & (np.abs(wx[:, 1] - y) < 2 * dx)
+            wall1 = float(np.median(wp[first]) / RHO_G_H) if first.any() else float("nan")
+            row["heights"][frac] = (gap, wall1)
+        floor = (np.abs(wx[:, 1] + 0.5 * dx) < 1e-6) & (wx[:, 0] < length)
+        row["floor_median"] = float(np.median(wp[floor]) / RHO_G_H)
+        row["floor_negative"] = float((wp[floor] < 0).mean())
+        depth = np.minimum(np.minimum(x[:, 0], s), x[:, 1]) / dx   # left wall at x = 0, floor at y = 0
+        i = int(np.argmin(depth))
+        row["deepest"] = (float(depth[i]), tuple(x[i]), tuple(v[i]))
+        rows.append(row)
+        k += 1
+    return rows
+
+
+def main(argv):
+    if not argv or argv[0] in ("-h", "--help"):
+        print(__doc__)
+        return 0 if argv else 2
+    for path in argv:
+        print(f"## {path}")
+        print("t*   | " + " | ".join(f"y/H {f:g}: gap, wall1" for f in HEIGHTS)
+              + " | floor1 median, <0 | deepest (dx; x, y; u, v)")
+        for r in snapshot_rows(path):
+            cells = " | ".join(f"{g:.2f}, {w:.1f}" for g, w in r["heights"].values())
+            dist, pos, vel = r["deepest"]
+            print(f"{r['t_star']:.2f} | {cells} | {r['floor_median']:.2f}, {r['floor_negative']:.2f} | "
+                  f"{dist:.2f}; {pos[0]:.4f}, {pos[1]:.4f}; {vel[0]:.3f}, {vel[1]:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
