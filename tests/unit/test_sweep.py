@@ -120,7 +120,9 @@ def test_executor_returns_outcomes_in_order_and_records_a_failure(executor):
     assert sorted(seen) == [0, 1, 2]
 
 
-def test_executor_choice_from_the_options():
+def test_executor_choice_from_the_options(monkeypatch):
+    # a 2-core machine, whatever NUMBA_NUM_THREADS the tests run with
+    monkeypatch.setattr("seawall.executors.usable_cores", lambda: 2)
     one = executor_for(jobs=1, n_tasks=4)
     assert isinstance(one, InProcess)
     assert isinstance(executor_for(n_tasks=3, default_in_process=True), InProcess)
