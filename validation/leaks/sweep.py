@@ -297,7 +297,11 @@ def main(argv=None):
     out = os.path.join(args.out, f"H{args.resolution}")
     data = load(args.resolution)
     if data.get("t_star") not in (None, args.t_star) or data.get("threads") not in (None, args.threads):
-        data = {}   # results of another end time or thread count are not mixed into one table
+        # results of another end time or thread count are not mixed into one table, nor thrown away
+        parser.error(f"{os.path.relpath(results_path(args.resolution), ROOT)} holds runs to t* = {data.get('t_star')} "
+                     f"with {data.get('threads')} thread(s); this sweep asks --t-star {args.t_star:g} --threads "
+                     f"{args.threads}: give those, or run the variant with plateau_diagnostics.py "
+                     "(its own results file)")
     data.update({"case": CASE, "H": H, "dx": dx, "t_star": args.t_star, "t_end": t_end, "threads": args.threads})
     data.setdefault("models", {})
     for model in models:
