@@ -52,3 +52,8 @@ def test_rows_give_gap_wall_layer_floor_and_deepest(tmp_path):
     assert r["floor_median"] == 1.0
     depth, pos, vel = r["deepest"]
     assert abs(depth + 0.5) < 1e-9 and vel[0] == 1.2
+
+
+def test_a_directory_without_snapshots_is_named(tmp_path, capsys):
+    assert wall_layers.main([str(tmp_path)]) == 2
+    assert str(tmp_path) in capsys.readouterr().err

@@ -51,6 +51,9 @@ VARIANTS = {
                                    "eq. 21 with the wall's normal velocity instead of eq. 29's mirror"),
     "liu2015-noslip-wall-normal-h100": ("liu2015-noslip", {"normal_velocity": "wall"}, 100,
                                         "eq. 21 with the wall's normal velocity instead of eq. 29's mirror"),
+    "idbc-h50": ("idbc", {}, 50, "IDBC's wall densities under [Li2022]'s continuity rule (wall_layers.py)"),
+    "idbc-consistent-h50": ("idbc", {"wall_density": "consistent"}, 50,
+                            "IDBC with the exact integral of eq. 8 instead (wall_layers.py)"),
 }
 
 

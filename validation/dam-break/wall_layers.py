@@ -67,6 +67,10 @@ def main(argv):
         print(__doc__)
         return 0 if argv else 2
     for path in argv:
+        if not os.path.exists(os.path.join(path, "plateau_snapshots.npz")):
+            print(f"wall_layers.py: RUN_DIR {path!r} has no plateau_snapshots.npz (a run directory of the leak "
+                  "sweep or of plateau_diagnostics.py)", file=sys.stderr)
+            return 2
         print(f"## {path}")
         print("t*   | " + " | ".join(f"y/H {f:g}: gap, wall1" for f in HEIGHTS)
               + " | floor1 median, <0 | deepest (dx; x, y; u, v)")
