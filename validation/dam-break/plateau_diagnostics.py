@@ -129,15 +129,9 @@ def main(argv=None):
         rec = sweep.run_model(model, dx, t_end, opts, os.path.join(RUNS, name), 1)
         rec.update({"variant": name, "resolution": n, "what": what, "t_star": args.t_star})
         print(f"[diag] {name}: {rec['status']} escaped {rec.get('escaped')}", flush=True)
-        data = {}
-        if os.path.exists(OUT):
-            with open(OUT) as fh:
-                data = json.load(fh)
+        data = sweep.read_json(OUT)
         data[name] = rec
-        os.makedirs(os.path.dirname(OUT), exist_ok=True)
-        with open(OUT, "w") as fh:
-            json.dump(data, fh, indent=1, sort_keys=True)
-            fh.write("\n")
+        sweep.write_json(OUT, data)
     return 0
 
 

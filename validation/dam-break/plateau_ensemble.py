@@ -18,7 +18,6 @@ model run several times, against which a spread between models has to be read.
 """
 
 import argparse
-import json
 import math
 import os
 import sys
@@ -41,7 +40,8 @@ T_STAR = 5.5
 #: the case's CFL number, and the relative changes of it that make the members
 CFL = 0.2
 MEMBERS = (0.0, -1e-5, 1e-5, -1e-4, 1e-4)
-HEIGHTS = ("0.01", "0.05", "0.1", "0.2", "0.27")
+#: the profile's heights as the plateau records key them ("0.01", ...)
+HEIGHTS = tuple(f"{f:g}" for f in sweep._plateau_module().HEIGHTS)
 TABLE_READOUTS = ("force", "wall")
 
 
@@ -62,10 +62,7 @@ def spread(records, readout):
 
 
 def load():
-    if not os.path.exists(OUT):
-        return {}
-    with open(OUT) as fh:
-        return json.load(fh)
+    return sweep.read_json(OUT)
 
 
 def table(data=None):
@@ -128,10 +125,7 @@ def main(argv=None):
             data = load()     # read again: another process may have stored members meanwhile
             data.setdefault(res, {}).setdefault(model, {})[cfl] = {
                 k: rec.get(k) for k in ("status", "t_stop", "escaped", "min_wall_distance_dx", "steps", "plateau")}
-            os.makedirs(os.path.dirname(OUT), exist_ok=True)
-            with open(OUT, "w") as fh:
-                json.dump(data, fh, indent=1, sort_keys=True)
-                fh.write("\n")
+            sweep.write_json(OUT, data)
     return 0
 
 

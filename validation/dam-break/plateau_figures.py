@@ -23,6 +23,17 @@ G = 9.81
 RHO_G_H = 1000.0 * G * H
 
 
+def _wall_layers():
+    """wall_layers.py beside this script: where the snapshot's downstream wall surface is."""
+    import importlib.util
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    spec = importlib.util.spec_from_file_location("wall_layers", os.path.join(here, "wall_layers.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 def _fields(out, runs, k):
     import matplotlib
 
@@ -34,10 +45,7 @@ def _fields(out, runs, k):
     for ax, (label, run) in zip(axes[0], runs):
         d = np.load(os.path.join(run, "plateau_snapshots.npz"))
         x, v, p = d[f"f{k}_x"], d[f"f{k}_v"], d[f"f{k}_p"] / RHO_G_H
-        wx = d[f"w{k}_x"]
-        side = (wx[:, 1] > 0.05 * H) & (wx[:, 1] < 1.5 * H)
-        first = wx[side, 0].min()
-        length = first - 0.5 * (np.unique(np.round(wx[side, 0], 9))[1] - first)   # the surface, half a spacing in
+        _, length = _wall_layers().geometry(d[f"w{k}_x"])
         near = x[:, 0] > length - 0.5 * H
         sc = ax.scatter(x[near, 0] / H, x[near, 1] / H, c=p[near], s=4, cmap="viridis", vmin=-0.1, vmax=1.2)
         sub = np.nonzero(near)[0][::3]

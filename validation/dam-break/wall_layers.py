@@ -15,15 +15,22 @@ keep), the median pressure and the fraction below zero; and the fluid particle d
 wall surface (signed distance in dx, position, velocity). dx is read from the wall's spacing.
 """
 
+import importlib.util
 import os
 import sys
 
 import numpy as np
 
-H = 0.3
-G = 9.81
-RHO_G_H = 1000.0 * G * H
-HEIGHTS = (0.01, 0.05, 0.1, 0.2, 0.27)
+_spec = importlib.util.spec_from_file_location(
+    "plateau_profiles", os.path.join(os.path.dirname(os.path.abspath(__file__)), "plateau_profiles.py"))
+plateau_profiles = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(plateau_profiles)
+
+#: the sweep's dam break and the plateau profile's heights
+H = plateau_profiles.sweep_module().H
+G = plateau_profiles.G
+RHO_G_H = plateau_profiles.RHO0 * G * H
+HEIGHTS = plateau_profiles.HEIGHTS
 
 
 def geometry(wall_x):

@@ -163,18 +163,28 @@ def results_path(resolution):
     return os.path.join(HERE, f"results_H{resolution}.json")
 
 
-def load(resolution):
-    path = results_path(resolution)
+def read_json(path):
+    """A stored results file of the validation scripts, or {} when there is none yet."""
     if not os.path.exists(path):
         return {}
     with open(path) as fh:
         return json.load(fh)
 
 
-def save(resolution, data):
-    with open(results_path(resolution), "w") as fh:
+def write_json(path, data):
+    """Store a results file as every validation script here does: sorted keys, one space indent."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as fh:
         json.dump(data, fh, indent=1, sort_keys=True)
         fh.write("\n")
+
+
+def load(resolution):
+    return read_json(results_path(resolution))
+
+
+def save(resolution, data):
+    write_json(results_path(resolution), data)
     with open(os.path.join(HERE, f"results_H{resolution}.csv"), "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(FIELDS)
