@@ -12,26 +12,21 @@ plateau_snapshots.npz). Figures go to validation/dam-break/img/.
 """
 
 import csv
+import importlib.util
 import math
 import os
 import sys
 
 import numpy as np
 
-H = 0.3
-G = 9.81
-RHO_G_H = 1000.0 * G * H
+# wall_layers.py beside this script (its folder name is not a package name): where a snapshot's
+# downstream wall surface is, and the sweep's dam break
+_spec = importlib.util.spec_from_file_location(
+    "wall_layers", os.path.join(os.path.dirname(os.path.abspath(__file__)), "wall_layers.py"))
+wall_layers = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(wall_layers)
 
-
-def _wall_layers():
-    """wall_layers.py beside this script: where the snapshot's downstream wall surface is."""
-    import importlib.util
-
-    here = os.path.dirname(os.path.abspath(__file__))
-    spec = importlib.util.spec_from_file_location("wall_layers", os.path.join(here, "wall_layers.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+H, G, RHO_G_H = wall_layers.H, wall_layers.G, wall_layers.RHO_G_H
 
 
 def _fields(out, runs, k):
@@ -45,7 +40,7 @@ def _fields(out, runs, k):
     for ax, (label, run) in zip(axes[0], runs):
         d = np.load(os.path.join(run, "plateau_snapshots.npz"))
         x, v, p = d[f"f{k}_x"], d[f"f{k}_v"], d[f"f{k}_p"] / RHO_G_H
-        _, length = _wall_layers().geometry(d[f"w{k}_x"])
+        _, length = wall_layers.geometry(d[f"w{k}_x"])
         near = x[:, 0] > length - 0.5 * H
         sc = ax.scatter(x[near, 0] / H, x[near, 1] / H, c=p[near], s=4, cmap="viridis", vmin=-0.1, vmax=1.2)
         sub = np.nonzero(near)[0][::3]
