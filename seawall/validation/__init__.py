@@ -173,6 +173,37 @@ def case_folders(validation_dir=None):
             if os.path.isfile(os.path.join(validation_dir, name, "entry.py"))}
 
 
+def _import_path(name, path):
+    """The module of the file ``path`` as ``sys.modules[name]``: imported once, again only when that
+    name holds another file (another checkout's)."""
+    module = sys.modules.get(name)
+    if module is None or os.path.abspath(getattr(module, "__file__", "")) != os.path.abspath(path):
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            del sys.modules[name]
+            raise
+    return module
+
+
+def load_script(path):
+    """The script at ``path`` (a validation study, e.g. ``validation/leaks/sweep.py``; relative paths
+    are taken from the checkout's root), imported once by its path: the case folders' names
+    (``dam-break``) are not package names, and the study scripts build on each other. Scripts pass
+    their sibling's full path, so that a checkout's scripts load each other, whichever seawall is
+    imported."""
+    path = os.path.abspath(os.path.join(ROOT, path))
+    if not os.path.isfile(path):
+        raise ParameterError(f"no script at {path}: the validation studies need the repository checkout")
+    folder, stem = os.path.split(os.path.splitext(path)[0])
+    # a flat module name (a dotted one would name parent packages that do not exist)
+    name = "seawall_script_" + "".join(c if c.isalnum() else "_" for c in f"{os.path.basename(folder)}_{stem}")
+    return _import_path(name, path)
+
+
 def entry_modules(validation_dir=None):
     """Each case folder's ``entry.py``, imported as ``seawall.validation.entries.<case>`` (module name -> module)."""
     folders = case_folders(validation_dir)
@@ -182,16 +213,7 @@ def entry_modules(validation_dir=None):
     for case, folder in folders.items():
         name = f"{ENTRY_MODULES}.{case.replace('-', '_')}"
         path = os.path.join(folder, "entry.py")
-        module = sys.modules.get(name)
-        if module is None or os.path.abspath(getattr(module, "__file__", "")) != os.path.abspath(path):
-            spec = importlib.util.spec_from_file_location(name, path)
-            module = importlib.util.module_from_spec(spec)
-            sys.modules[name] = module
-            try:
-                spec.loader.exec_module(module)
-            except BaseException:
-                del sys.modules[name]
-                raise
+        module = _import_path(name, path)
         modules[case.replace("-", "_")] = module
         setattr(package, case.replace("-", "_"), module)
     return modules

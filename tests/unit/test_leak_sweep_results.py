@@ -1,17 +1,14 @@
 """validation/leaks/sweep.py keeps what it stored: a sweep of another end time stops instead of
 throwing the stored table away."""
 
-import importlib.util
 import json
 import os
 
 import pytest
 
-from seawall.validation import ROOT
+from seawall.validation import ROOT, load_script
 
-SPEC = importlib.util.spec_from_file_location("leaks_sweep", os.path.join(ROOT, "validation", "leaks", "sweep.py"))
-sweep = importlib.util.module_from_spec(SPEC)
-SPEC.loader.exec_module(sweep)
+sweep = load_script(os.path.join(ROOT, "validation", "leaks", "sweep.py"))
 
 
 def test_a_sweep_of_another_end_time_stops_and_keeps_the_stored_rows(tmp_path, monkeypatch, capsys):

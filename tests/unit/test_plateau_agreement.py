@@ -1,14 +1,10 @@
 """validation/dam-break/plateau_profiles.py without a run: the slip groups and their spread table (issue 15, item 7)."""
 
-import importlib.util
 import os
 
-from seawall.validation import ROOT
+from seawall.validation import ROOT, load_script
 
-SPEC = importlib.util.spec_from_file_location("plateau_profiles",
-                                              os.path.join(ROOT, "validation", "dam-break", "plateau_profiles.py"))
-plateau_profiles = importlib.util.module_from_spec(SPEC)
-SPEC.loader.exec_module(plateau_profiles)
+plateau_profiles = load_script(os.path.join(ROOT, "validation", "dam-break", "plateau_profiles.py"))
 
 
 def _record(model, values, params=None, status="completed", readout="wall"):

@@ -1,14 +1,10 @@
 """validation/dam-break/plateau_ensemble.py without a run: the members' options and their spread."""
 
-import importlib.util
 import os
 
-from seawall.validation import ROOT
+from seawall.validation import ROOT, load_script
 
-SPEC = importlib.util.spec_from_file_location("plateau_ensemble",
-                                              os.path.join(ROOT, "validation", "dam-break", "plateau_ensemble.py"))
-plateau_ensemble = importlib.util.module_from_spec(SPEC)
-SPEC.loader.exec_module(plateau_ensemble)
+plateau_ensemble = load_script(os.path.join(ROOT, "validation", "dam-break", "plateau_ensemble.py"))
 
 
 def _member(values, status="completed"):

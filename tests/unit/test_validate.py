@@ -124,3 +124,19 @@ def test_an_entry_gets_the_results_directory_for_the_files_it_keeps(tmp_path):
     out = tmp_path / "results"
     validation.run_entry(entry, quick=True, results=str(out), img_dir=str(tmp_path / "img"))
     assert seen == [str(out)] and (out / "kept-files.json").exists() and (out / "series.csv").exists()
+
+
+def test_load_script_imports_a_study_script_once_by_its_path(tmp_path):
+    folder = tmp_path / "validation" / "some-case"
+    folder.mkdir(parents=True)
+    script = folder / "study.py"
+    script.write_text("LOADS = []\nLOADS.append(1)\n")
+    first = validation.load_script(str(script))
+    assert validation.load_script(str(script)) is first and first.LOADS == [1]
+    # the same name from another checkout is that checkout's file, not the one held
+    other = tmp_path / "other" / "validation" / "some-case"
+    other.mkdir(parents=True)
+    (other / "study.py").write_text("LOADS = [2]\n")
+    assert validation.load_script(str(other / "study.py")).LOADS == [2]
+    with pytest.raises(validation.ParameterError, match="no script at"):
+        validation.load_script(str(folder / "missing.py"))

@@ -12,19 +12,19 @@ plateau_snapshots.npz). Figures go to validation/dam-break/img/.
 """
 
 import csv
-import importlib.util
 import math
 import os
 import sys
 
 import numpy as np
 
-# wall_layers.py beside this script (its folder name is not a package name): where a snapshot's
-# downstream wall surface is, and the sweep's dam break
-_spec = importlib.util.spec_from_file_location(
-    "wall_layers", os.path.join(os.path.dirname(os.path.abspath(__file__)), "wall_layers.py"))
-wall_layers = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(wall_layers)
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))
+from seawall.validation import load_script  # noqa: E402  (this checkout's seawall, put on the path above)
+
+# wall_layers.py beside this script: where a snapshot's downstream wall surface is, and the sweep's
+# dam break
+wall_layers = load_script(os.path.join(HERE, "wall_layers.py"))
 
 H, G, RHO_G_H = wall_layers.H, wall_layers.G, wall_layers.RHO_G_H
 
@@ -40,7 +40,7 @@ def _fields(out, runs, k):
     for ax, (label, run) in zip(axes[0], runs):
         d = np.load(os.path.join(run, "plateau_snapshots.npz"))
         x, v, p = d[f"f{k}_x"], d[f"f{k}_v"], d[f"f{k}_p"] / RHO_G_H
-        _, length = wall_layers.geometry(d[f"w{k}_x"])
+        _, length, _ = wall_layers.geometry(d, k, run)
         near = x[:, 0] > length - 0.5 * H
         sc = ax.scatter(x[near, 0] / H, x[near, 1] / H, c=p[near], s=4, cmap="viridis", vmin=-0.1, vmax=1.2)
         sub = np.nonzero(near)[0][::3]
@@ -107,7 +107,14 @@ def main(argv):
         k = int(rest[i + 1])
         rest = rest[:i] + rest[i + 2:]
     if kind == "fields":
-        _fields(out, [tuple(a.split("=", 1)) for a in rest], k)
+        runs = [tuple(a.split("=", 1)) for a in rest]
+        for _, run in runs:
+            with np.load(os.path.join(run, "plateau_snapshots.npz")) as d:
+                if f"t{k}" not in d.files:
+                    print(f"plateau_figures.py: --snapshot {k}: RUN_DIR {run!r} has snapshots "
+                          f"0..{sum(1 for f in d.files if f[0] == 't' and f[1:].isdigit()) - 1}", file=sys.stderr)
+                    return 2
+        _fields(out, runs, k)
     else:
         _series(out, float(rest[0]), [tuple(a.split("=", 1)) for a in rest[1:]])
     return 0

@@ -32,7 +32,6 @@ Plateau: mean of p / (rho0 g H) over 3 <= t sqrt(g/H) <= 5.5 on the downstream w
 """
 
 import argparse
-import importlib.util
 import json
 import math
 import os
@@ -55,15 +54,11 @@ G = 9.81
 RHO0 = 1000.0
 
 
-def _load(name, path):
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def sweep_module():
-    return _load("leaks_sweep", os.path.join(ROOT, "validation", "leaks", "sweep.py"))
+    """validation/leaks/sweep.py: the dam break the profiles are taken on, and its results."""
+    from seawall.validation import load_script
+
+    return load_script(os.path.join(ROOT, "validation", "leaks", "sweep.py"))
 
 
 def probe_name(readout, frac):
@@ -114,7 +109,8 @@ def _snapshot_probe_class():
 
     class _CornerSnapshots(probes.Probe):
         """Saves every fluid particle and the wall particles within 0.5 H of the downstream wall at
-        the times of :data:`SNAPSHOT_T_STAR` to an npz file; samples the number saved so far."""
+        the times of :data:`SNAPSHOT_T_STAR` to an npz file, with ``dx`` and the wall's surface
+        ``surface_x``; samples the number saved so far."""
 
         def __init__(self, path, length, H):
             super().__init__("plateau_snapshots")
@@ -138,7 +134,9 @@ def _snapshot_probe_class():
                         snap[f"w{k}_{n}"] = np.array(wp[n][wnear]) - (pb if n == "p" else 0.0)
                 snap[f"t{k}"] = np.array(sim.time)
                 self.saved[k] = snap
-                merged = {}
+                # dx and the downstream wall's surface, so that readers need not infer them from
+                # the wall particles (a one-row wall's spacing is not dx)
+                merged = {"dx": np.array(sim.fluid.spacing), "surface_x": np.array(self.length)}
                 for d in self.saved.values():
                     merged.update(d)
                 np.savez_compressed(self.path, **merged)

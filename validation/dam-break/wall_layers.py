@@ -12,19 +12,21 @@ sweep or of plateau_diagnostics.py) and each height y/H of the plateau profile, 
 
 and, for the floor's first layer within 0.5 H of the downstream wall (the part the snapshots
 keep), the median pressure and the fraction below zero; and the fluid particle deepest behind any
-wall surface (signed distance in dx, position, velocity). dx is read from the wall's spacing.
+wall surface (signed distance in dx, position, velocity). dx and the wall's surface are
+read as :func:`geometry` says.
 """
 
-import importlib.util
+import json
 import os
 import sys
 
 import numpy as np
 
-_spec = importlib.util.spec_from_file_location(
-    "plateau_profiles", os.path.join(os.path.dirname(os.path.abspath(__file__)), "plateau_profiles.py"))
-plateau_profiles = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(plateau_profiles)
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))
+from seawall.validation import load_script  # noqa: E402  (this checkout's seawall, put on the path above)
+
+plateau_profiles = load_script(os.path.join(HERE, "plateau_profiles.py"))
 
 #: the sweep's dam break and the plateau profile's heights
 H = plateau_profiles.sweep_module().H
@@ -33,12 +35,29 @@ RHO_G_H = plateau_profiles.RHO0 * G * H
 HEIGHTS = plateau_profiles.HEIGHTS
 
 
-def geometry(wall_x):
-    """(spacing, x of the downstream wall's surface) from the snapshot's wall particles."""
+def geometry(snapshots, k, run_dir=None):
+    """(dx, x of the downstream wall's surface, offset of the wall's first row behind it) of snapshot
+    ``k`` of the loaded ``plateau_snapshots.npz``.
+
+    Snapshots written since the file stores ``dx`` and ``surface_x`` carry both. For older ones they
+    are read from the wall particles: a layered wall's columns are dx apart with the first dx/2
+    behind the surface; a one-row wall (``monaghan-kajtar``, ``liu2012``) sits on the surface at a
+    finer spacing, so dx comes from the run's ``summary.json`` in ``run_dir``.
+    """
+    wall_x = snapshots[f"w{k}_x"]
     side = (wall_x[:, 1] > 0.05 * H) & (wall_x[:, 1] < 1.5 * H)
     columns = np.unique(np.round(wall_x[side, 0], 9))
-    spacing = columns[1] - columns[0]
-    return spacing, columns[0] - 0.5 * spacing
+    if "dx" in snapshots.files and "surface_x" in snapshots.files:
+        dx, surface = float(snapshots["dx"]), float(snapshots["surface_x"])
+        return dx, surface, float(columns[0] - surface)
+    if len(columns) > 1:
+        spacing = float(columns[1] - columns[0])
+        return spacing, float(columns[0]) - 0.5 * spacing, 0.5 * spacing
+    summary = os.path.join(run_dir or "", "summary.json")
+    if not os.path.exists(summary):
+        raise ValueError(f"RUN_DIR {run_dir!r}: a one-row wall's snapshots need the run's summary.json for dx")
+    with open(summary) as fh:
+        return float(json.load(fh)["dx"]), float(columns[0]), 0.0
 
 
 def snapshot_rows(path):
@@ -47,20 +66,23 @@ def snapshot_rows(path):
     rows = []
     k = 0
     while f"t{k}" in d.files:
-        x, v, wx, wp = d[f"f{k}_x"], d[f"f{k}_v"], d[f"w{k}_x"], d[f"w{k}_p"]
-        dx, length = geometry(wx)
+        x, v, wx = d[f"f{k}_x"], d[f"f{k}_v"], d[f"w{k}_x"]
+        # repulsive-force walls (monaghan-kajtar) carry no pressure: their wall columns read nan
+        wp = d[f"w{k}_p"] if f"w{k}_p" in d.files else np.full(len(wx), np.nan)
+        dx, length, first_offset = geometry(d, k, path)
         s = length - x[:, 0]                       # distance from the downstream wall's surface
         row = {"t_star": float(d[f"t{k}"]) * np.sqrt(G / H), "dx": dx, "heights": {}}
         for frac in HEIGHTS:
             y = frac * H
             band = np.abs(x[:, 1] - y) < dx
             gap = float(np.sort(s[band])[:2].mean() / dx) if band.sum() >= 2 else float("nan")
-            first = (np.abs(wx[:, 0] - (length + 0.5 * dx)) < 1e-6) & (np.abs(wx[:, 1] - y) < 2 * dx)
+            first = (np.abs(wx[:, 0] - (length + first_offset)) < 1e-6) & (np.abs(wx[:, 1] - y) < 2 * dx)
             wall1 = float(np.median(wp[first]) / RHO_G_H) if first.any() else float("nan")
             row["heights"][frac] = (gap, wall1)
-        floor = (np.abs(wx[:, 1] + 0.5 * dx) < 1e-6) & (wx[:, 0] < length)
+        floor = (np.abs(wx[:, 1] + first_offset) < 1e-6) & (wx[:, 0] < length)
         row["floor_median"] = float(np.median(wp[floor]) / RHO_G_H)
-        row["floor_negative"] = float((wp[floor] < 0).mean())
+        row["floor_negative"] = (float((wp[floor] < 0).mean()) if np.isfinite(wp[floor]).all()
+                                 else float("nan"))
         depth = np.minimum(np.minimum(x[:, 0], s), x[:, 1]) / dx   # left wall at x = 0, floor at y = 0
         i = int(np.argmin(depth))
         row["deepest"] = (float(depth[i]), tuple(x[i]), tuple(v[i]))

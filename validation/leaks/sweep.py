@@ -123,14 +123,10 @@ def _worker(model, dx, t_end, params, out, threads, queue):
 
 
 def _plateau_module():
-    """validation/dam-break/plateau_profiles.py (its folder name is not a package name)."""
-    import importlib.util
+    """validation/dam-break/plateau_profiles.py."""
+    from seawall.validation import load_script
 
-    path = os.path.join(ROOT, "validation", "dam-break", "plateau_profiles.py")
-    spec = importlib.util.spec_from_file_location("plateau_profiles", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(os.path.join(ROOT, "validation", "dam-break", "plateau_profiles.py"))
 
 
 def _key(model, params):
@@ -290,7 +286,6 @@ def main(argv=None):
         parser.error("--t-star must be positive")
     if args.threads < 1:
         parser.error("--threads must be at least 1")
-    sys.path.insert(0, ROOT)
     all_models = closed_tank_models()
     models = all_models if args.models is None else [m.strip() for m in args.models.split(",") if m.strip()]
     unknown = [m for m in models if m not in all_models]
