@@ -61,6 +61,11 @@ VARIANTS = {
     "alpha0.05": ({"alpha": 0.05}, "case defaults with artificial viscosity alpha = 0.05"),
     "entry-open3": ({"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": C10, "lid": False, "tank_height": 3.0},
                     "as entry, no lid and walls 3 H high (the case closes the tank at 2 H)"),
+    "entry-h2": ({"riemann": True, "alpha": 0.0, "delta": 0.0, "c0": C10, "h_factor": 2.0},
+                 "as entry, h = 2 dx instead of 1.3 dx (cubic spline support 4 dx instead of 2.6 dx)"),
+    "huang2019": ({"scheme": "marrone2011", "c0": C10, "initial": "analytic"},
+                  "[Huang2019]'s fluid for this case: delta-SPH of Marrone et al. (linear EOS, Gaussian cut at 3 h, "
+                  "alpha = 0.02 on all pairs, delta = 0.1), c0 = 10 sqrt(gH), initial pressure from the Laplace problem"),
 }
 
 
