@@ -4,16 +4,15 @@ This name stays so that ``python -m seawall.plots_idbc [fields|box|drop|sweep|al
 ``from seawall.plots_idbc import fields, box, drop, sweep, main`` keep working from a checkout.
 """
 
-import importlib.util
 import os
+
+from .validation import load_script
 
 _PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "validation", "idbc", "figures.py")
 if not os.path.isfile(_PATH):
     raise ModuleNotFoundError("seawall.plots_idbc moved to validation/idbc/figures.py of the repository checkout, "
                               "which is not there")
-_spec = importlib.util.spec_from_file_location("seawall._idbc_figures", _PATH)
-_figures = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(_figures)
+_figures = load_script(_PATH)
 
 fields, box, drop, sweep, main = _figures.fields, _figures.box, _figures.drop, _figures.sweep, _figures.main
 __all__ = ["fields", "box", "drop", "sweep", "main"]

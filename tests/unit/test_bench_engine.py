@@ -1,13 +1,10 @@
 """benchmarks/bench_engine.py without running a benchmark: its arguments and the versus-commit block it writes."""
 
-import importlib.util
 import os
 
-from seawall.validation import ROOT
+from seawall.validation import ROOT, load_script
 
-SPEC = importlib.util.spec_from_file_location("bench_engine", os.path.join(ROOT, "benchmarks", "bench_engine.py"))
-bench_engine = importlib.util.module_from_spec(SPEC)
-SPEC.loader.exec_module(bench_engine)
+bench_engine = load_script(os.path.join(ROOT, "benchmarks", "bench_engine.py"))
 
 
 def test_versus_commit_is_a_part_with_its_reference_and_steps():

@@ -71,11 +71,9 @@ def test_your_own_probe(tmp_path):
 def test_api_reference_builds_without_warnings(tmp_path):
     """python docs/build_api.py: every public module renders and pdoc raises no warning."""
     pytest.importorskip("pdoc", reason="pdoc not installed (pip install -e '.[test]' or '.[docs]')")
-    import importlib.util
+    from seawall.validation import load_script
 
-    spec = importlib.util.spec_from_file_location("build_api", REPO / "docs" / "build_api.py")
-    build_api = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(build_api)
+    build_api = load_script(str(REPO / "docs" / "build_api.py"))
     problems = build_api.build(tmp_path / "api")
     assert problems == []
     for module in build_api.PUBLIC_MODULES:
