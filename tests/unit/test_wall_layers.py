@@ -1,4 +1,5 @@
-"""validation/dam-break/wall_layers.py on a made-up snapshot: gap, wall layer, floor, deepest particle."""
+"""On a made-up snapshot: validation/dam-break/wall_layers.py (gap, wall layer, floor, deepest
+particle) and plateau_figures.py (the fields figure)."""
 
 import json
 import os
@@ -42,7 +43,8 @@ def _snapshot(tmp_path, dx=0.006, length=1.608, one_row=False):
     fv[-1] = (1.2, 0.0)
     t = 3.5 / np.sqrt(wall_layers.G / H)
     stored = {"dx": np.array(dx), "surface_x": np.array(length)} if one_row else {}
-    np.savez(tmp_path / "plateau_snapshots.npz", f0_x=fx, f0_v=fv, w0_x=w[:, :2], w0_p=w[:, 2], t0=np.array(t), **stored)
+    np.savez(tmp_path / "plateau_snapshots.npz", f0_x=fx, f0_v=fv, f0_p=np.full(len(fx), rho_g_h),
+             w0_x=w[:, :2], w0_p=w[:, 2], t0=np.array(t), **stored)
     return tmp_path, len(range(0, len(xs), 4)) / len(xs)
 
 
@@ -90,3 +92,16 @@ def test_rows_give_gap_wall_layer_floor_and_deepest(tmp_path, one_row):
 def test_a_directory_without_snapshots_is_named(tmp_path, capsys):
     assert wall_layers.main([str(tmp_path)]) == 2
     assert str(tmp_path) in capsys.readouterr().err
+
+
+def test_plateau_figures_draws_the_fields_of_a_snapshot_and_names_a_missing_one(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    plateau_figures = load_script(os.path.join(ROOT, "validation", "dam-break", "plateau_figures.py"))
+    run = tmp_path / "run"
+    run.mkdir()
+    _snapshot(run, one_row=True)
+    out = tmp_path / "fields.png"
+    assert plateau_figures.main(["fields", str(out), f"one-row={run}", "--snapshot", "0"]) == 0
+    assert out.stat().st_size > 0
+    assert plateau_figures.main(["fields", str(out), f"one-row={run}", "--snapshot", "1"]) == 2
+    assert "has snapshots 0..0" in capsys.readouterr().err

@@ -38,15 +38,16 @@ def _fields(out, runs, k):
     fig, axes = plt.subplots(1, len(runs), figsize=(3.6 * len(runs), 4.4), squeeze=False, sharey=True)
     sc = None
     for ax, (label, run) in zip(axes[0], runs):
-        d = np.load(os.path.join(run, "plateau_snapshots.npz"))
-        x, v, p = d[f"f{k}_x"], d[f"f{k}_v"], d[f"f{k}_p"] / RHO_G_H
-        _, length, _ = wall_layers.geometry(d, k, run)
+        with np.load(os.path.join(run, "plateau_snapshots.npz")) as d:
+            x, v, p = d[f"f{k}_x"], d[f"f{k}_v"], d[f"f{k}_p"] / RHO_G_H
+            _, length, _ = wall_layers.geometry(d, k, run)
+            t_k = float(d[f"t{k}"])
         near = x[:, 0] > length - 0.5 * H
         sc = ax.scatter(x[near, 0] / H, x[near, 1] / H, c=p[near], s=4, cmap="viridis", vmin=-0.1, vmax=1.2)
         sub = np.nonzero(near)[0][::3]
         ax.quiver(x[sub, 0] / H, x[sub, 1] / H, v[sub, 0], v[sub, 1], scale=40, width=0.004, color="k", alpha=0.6)
         ax.axvline(length / H, color="0.4", lw=1)
-        ax.set_title(f"{label}, t* = {float(d[f't{k}']) * math.sqrt(G / H):.1f}", fontsize=9)
+        ax.set_title(f"{label}, t* = {t_k * math.sqrt(G / H):.1f}", fontsize=9)
         ax.set_xlabel("x / H")
         ax.set_aspect("equal")
         ax.set_ylim(0, 1.0)
