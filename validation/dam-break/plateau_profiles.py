@@ -389,8 +389,10 @@ def plot(stored, path):
 
     res = sorted(stored)
     keys = sorted({k for n in res for k in stored[n]["models"]})
-    cmap = plt.get_cmap("tab20")
-    colour = {k: cmap(i % 20) for i, k in enumerate(keys)}
+    # tab20 has 20 colours and the tables more runs: the next 20 come from tab20b with another marker
+    palette = [plt.get_cmap("tab20")(i) for i in range(20)] + [plt.get_cmap("tab20b")(i) for i in range(20)]
+    colour = {k: palette[i % 40] for i, k in enumerate(keys)}
+    marker = {k: "os^"[(i // 20) % 3] for i, k in enumerate(keys)}
     fig, axes = plt.subplots(len(res), 2, figsize=(10.4, 4.6 * len(res)), squeeze=False)
     for row, n in enumerate(res):
         for ax, ro in zip(axes[row], ("wall", "force")):
@@ -401,7 +403,7 @@ def plot(stored, path):
                 # a run stopped inside the window averages over its part only: drawn dotted
                 cut = r["status"] != "completed"
                 style = ":" if cut else ("--" if "noslip" in key else "-")
-                ax.plot(vals, HEIGHTS, style, marker="o", ms=3, color=colour[key],
+                ax.plot(vals, HEIGHTS, style, marker=marker[key], ms=3, color=colour[key],
                         label=key + (" (stopped)" if cut else ""))
             ax.set_xlabel(f"plateau p / (rho g H), read-out: {ro}")
             ax.set_ylabel("y / H")
