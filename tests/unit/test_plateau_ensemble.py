@@ -2,6 +2,8 @@
 
 import os
 
+import pytest
+
 from seawall.validation import ROOT, load_script
 
 plateau_ensemble = load_script(os.path.join(ROOT, "validation", "dam-break", "plateau_ensemble.py"))
@@ -32,3 +34,18 @@ def test_table_has_a_row_per_model_and_readout():
     lines = plateau_ensemble.table(data).splitlines()
     assert len(lines) == 2 + len(plateau_ensemble.TABLE_READOUTS)
     assert lines[2].startswith("| 50 | `adami` | 2 | force | 0.071, 0.100 |")
+
+
+def test_table_keeps_a_model_run_with_an_option_apart():
+    data = {"H50": {"ghost-mls2 reflect=1": {"0.2": _member([1.0] * 5), "0.199998": _member([1.1] * 5)},
+                    "adami": {"0.2": _member([1.0] * 5)}}}
+    rows = [line.split(" | ")[1] for line in plateau_ensemble.table(data).splitlines()[2:]]
+    assert set(rows) == {"`adami`", "`ghost-mls2 reflect=1`"}
+
+
+@pytest.mark.parametrize("item, named", [("cfl=0.3", "--set cfl"), ("reflect", "--set expects KEY=VALUE")])
+def test_a_bad_option_is_refused_in_one_line_before_any_run(item, named, capsys):
+    with pytest.raises(SystemExit) as stop:
+        plateau_ensemble.main(["--models", "adami", "--set", item])
+    assert stop.value.code == 2
+    assert named in capsys.readouterr().err

@@ -1,6 +1,7 @@
 """How far the plateau profile moves between runs that differ only in round-off (issue 15, item 7).
 
     python validation/dam-break/plateau_ensemble.py --resolution 50 --models adami,dbc
+    python validation/dam-break/plateau_ensemble.py --models ghost-mls2 --set reflect=1   # with an option
     python validation/dam-break/plateau_ensemble.py --table          # print the stored spreads
     python validation/dam-break/plateau_ensemble.py --write-doc      # and put them into docs/validation-notes.md
 
@@ -93,6 +94,9 @@ def main(argv=None):
     parser.add_argument("--members", type=int, default=len(MEMBERS),
                         help=f"how many of the {len(MEMBERS)} CFL changes to run (default all)")
     parser.add_argument("--threads", type=int, default=1, help="threads of each run (default 1)")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="case or wall option for every member (the row is then 'MODEL KEY=VALUE', "
+                             "as in the sweep's tables)")
     parser.add_argument("--table", action="store_true", help="print the table of the stored ensembles")
     parser.add_argument("--write-doc", action="store_true", help="write the table into docs/validation-notes.md")
     args = parser.parse_args(argv)
@@ -113,17 +117,26 @@ def main(argv=None):
     for m in models:
         if m not in known:
             parser.error(f"unknown wall model {m!r}; available: {', '.join(known)}")
+    options = {}
+    for item in args.set:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            parser.error(f"--set expects KEY=VALUE, got {item!r}")
+        if key.strip() == "cfl":
+            parser.error("--set cfl=...: the members are made by changing the CFL number; it cannot be set")
+        options[key.strip()] = value.strip()
     dx = sweep.H / args.resolution
     t_end = T_STAR * math.sqrt(sweep.H / sweep.G)
     res = f"H{args.resolution}"
     for model in models:
+        row = sweep._key(model, options)
         for e in MEMBERS[:args.members]:
             cfl = member_cfl(e)
-            print(f"[ensemble] {model} H/{args.resolution} cfl = {cfl} to t* = {T_STAR}", flush=True)
-            rec = sweep.run_model(model, dx, t_end, {"cfl": cfl}, os.path.join(RUNS, res), args.threads)
-            print(f"[ensemble] {model} cfl = {cfl}: {rec['status']} escaped {rec.get('escaped')}", flush=True)
+            print(f"[ensemble] {row} H/{args.resolution} cfl = {cfl} to t* = {T_STAR}", flush=True)
+            rec = sweep.run_model(model, dx, t_end, {**options, "cfl": cfl}, os.path.join(RUNS, res), args.threads)
+            print(f"[ensemble] {row} cfl = {cfl}: {rec['status']} escaped {rec.get('escaped')}", flush=True)
             data = load()     # read again: another process may have stored members meanwhile
-            data.setdefault(res, {}).setdefault(model, {})[cfl] = {
+            data.setdefault(res, {}).setdefault(row, {})[cfl] = {
                 k: rec.get(k) for k in ("status", "t_stop", "escaped", "min_wall_distance_dx", "steps", "plateau")}
             sweep.write_json(OUT, data)
     return 0
