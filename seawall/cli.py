@@ -22,13 +22,9 @@ EXIT_TERMINATED = 143
 
 
 def _parse_sets(items):
-    from .sweep import split_set_item
+    from .sweep import parse_set_items
 
-    params = {}
-    for item in items or []:
-        key, value = split_set_item(item)
-        params[key] = value.strip()
-    return params
+    return parse_set_items(items)
 
 
 def _bad_input(message):

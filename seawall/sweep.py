@@ -41,6 +41,16 @@ def split_set_item(item, form="KEY=VALUE"):
     return key, text
 
 
+def parse_set_items(items):
+    """``--set KEY=VALUE`` items -> ``{KEY: value text}`` (stripped), as ``seawall run`` and the
+    validation studies read them; a later item of the same key wins. Bad syntax stops in one line."""
+    params = {}
+    for item in items or []:
+        key, value = split_set_item(item)
+        params[key] = value.strip()
+    return params
+
+
 def parse_sweep_sets(items):
     """``--set K=v1,v2`` items -> ``{K: [v1, v2]}`` in the order given. Bad syntax, an empty value or
     a key given twice stop in one line."""

@@ -193,9 +193,8 @@ def load_script(path):
     """The script at ``path`` of the checkout (a validation study, e.g. ``validation/leaks/sweep.py``,
     a benchmark, the docs builder; relative paths are taken from the checkout's root), imported once
     by its path: the case folders' names (``dam-break``) are not package names, and the study
-    scripts build on each other. Scripts pass
-    their sibling's full path, so that a checkout's scripts load each other, whichever seawall is
-    imported."""
+    scripts build on each other. Scripts pass their sibling's full path, so that a checkout's
+    scripts load each other, whichever seawall is imported."""
     path = os.path.abspath(os.path.join(ROOT, path))
     if not os.path.isfile(path):
         raise ParameterError(f"no script at {path}: the validation studies need the repository checkout")

@@ -13,7 +13,7 @@ from seawall.cli import main
 from seawall.errors import ParameterError
 from seawall.executors import (DaskCluster, InProcess, LocalProcesses, Task, executor_for, local_executor,
                                run_tasks)
-from seawall.sweep import check_settings, combinations, parse_sweep_sets, run_dir_name, sweep
+from seawall.sweep import check_settings, combinations, parse_set_items, parse_sweep_sets, run_dir_name, sweep
 
 
 def run_cli(args, capsys):
@@ -41,6 +41,15 @@ def test_bad_set_syntax_stops_naming_it(item, names):
 def test_a_key_given_twice_is_refused():
     with pytest.raises(ParameterError, match="--set alpha is given twice"):
         parse_sweep_sets(["alpha=1", "alpha=2"])
+
+
+def test_single_sets_are_read_as_seawall_run_reads_them():
+    assert parse_set_items(["reflect= 1 ", "clip-negative=1", "c=48.5"]) == \
+        {"reflect": "1", "clip_negative": "1", "c": "48.5"}
+    assert parse_set_items(None) == {}
+    for item in ("reflect", "=1"):
+        with pytest.raises(ParameterError, match="KEY=VALUE"):
+            parse_set_items([item])
 
 
 def test_the_product_has_every_combination_first_key_outermost():

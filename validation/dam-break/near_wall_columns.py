@@ -127,15 +127,13 @@ def main(argv=None):
     if not args.name or not args.model:
         parser.error("give a NAME for the run and a wall MODEL (or --table)")
     from seawall.errors import ParameterError
-    from seawall.sweep import split_set_item
+    from seawall.sweep import parse_set_items
 
-    params = {}
-    for item in args.set:
-        try:
-            key, value = split_set_item(item)
-        except ParameterError as exc:
-            parser.error(str(exc))
-        params[key] = value.strip()     # text, as `seawall run --set` passes it: the case and model parse it
+    try:
+        # text, as `seawall run --set` passes it: the case and model parse it
+        params = parse_set_items(args.set)
+    except ParameterError as exc:
+        parser.error(str(exc))
     heights, escaped = run(args.model, args.resolution, params)
     data = {}
     if os.path.exists(OUT):

@@ -31,6 +31,8 @@ sys.path.insert(0, os.path.join(ROOT, "validation", "leaks"))
 sys.path.insert(0, ROOT)
 
 import sweep  # noqa: E402  (validation/leaks/sweep.py: its worker is spawned by module name)
+from seawall.errors import ParameterError  # noqa: E402
+from seawall.sweep import parse_set_items  # noqa: E402
 
 OUT = os.path.join(HERE, "results", "plateau_ensemble.json")
 RUNS = os.path.join(ROOT, "validation", "leaks", "runs", "ensemble")
@@ -117,14 +119,12 @@ def main(argv=None):
     for m in models:
         if m not in known:
             parser.error(f"unknown wall model {m!r}; available: {', '.join(known)}")
-    options = {}
-    for item in args.set:
-        key, sep, value = item.partition("=")
-        if not sep or not key.strip():
-            parser.error(f"--set expects KEY=VALUE, got {item!r}")
-        if key.strip() == "cfl":
-            parser.error("--set cfl=...: the members are made by changing the CFL number; it cannot be set")
-        options[key.strip()] = value.strip()
+    try:
+        options = parse_set_items(args.set)
+    except ParameterError as exc:
+        parser.error(str(exc))
+    if "cfl" in options:
+        parser.error("--set cfl=...: the members are made by changing the CFL number; it cannot be set")
     dx = sweep.H / args.resolution
     t_end = T_STAR * math.sqrt(sweep.H / sweep.G)
     res = f"H{args.resolution}"

@@ -291,12 +291,13 @@ def main(argv=None):
     unknown = [m for m in models if m not in all_models]
     if unknown:
         parser.error(f"unknown wall model {unknown[0]!r}; available: {', '.join(all_models)}")
-    params = {}
-    for item in args.set:
-        if "=" not in item:
-            parser.error(f"--set expects KEY=VALUE, got {item!r}")
-        k, v = item.split("=", 1)
-        params[k.strip()] = v.strip()
+    from seawall.errors import ParameterError
+    from seawall.sweep import parse_set_items
+
+    try:
+        params = parse_set_items(args.set)
+    except ParameterError as exc:
+        parser.error(str(exc))
     dx = H / args.resolution
     t_end = args.t_star * math.sqrt(H / G)
     out = os.path.join(args.out, f"H{args.resolution}")
