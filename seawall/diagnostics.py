@@ -37,7 +37,7 @@ from .jit import particle_loop
 AXES = "xyz"
 
 #: why a fluid particle was removed (the ``reason`` of escaped records, in this order in summaries)
-REASONS = ("domain", "wall", "unstable")
+REASONS = ("domain", "wall", "unstable", "overtopped")
 
 
 @njit(cache=True)
@@ -133,7 +133,7 @@ def record_reason(record, dim):
 
 def _side(record, dim, lo, hi, hull):
     side = escape_side(record[2:2 + dim], lo, hi)
-    if side == "inside" and hull is not None and record_reason(record, dim) == "domain":
+    if side == "inside" and hull is not None and record_reason(record, dim) in ("domain", "overtopped"):
         side = escape_side(record[2:2 + dim], hull[0], hull[1])
     return side
 

@@ -4,10 +4,15 @@ After every step the simulation sorts out the fluid particles that can no
 longer take part in the flow, removes them, records them (time, id,
 position, reason) and goes on:
 
+* ``overtopped`` -- outside the domain box or the hull (below) at or above
+  the top of the walls beside it: water that went over a crest or out through
+  an open top (:func:`overtopped_mask`). Flow, not damage.
 * ``domain`` -- outside the domain box, or outside the walls' **hull**: the
-  region the walls enclose across gravity (below). A particle that went over
-  the side of a tank is counted as soon as it is outside the tank, not when
-  it has slid down the outside to the edge of the domain.
+  region the walls enclose across gravity (below), any other way: through
+  the bottom, out of a flume's open end, or out through a wall's outer face.
+  A particle that went over the side of a tank is counted as soon as it is
+  outside the tank, not when it has slid down the outside to the edge of the
+  domain.
 * ``wall`` -- deeper than ``wall_removal_depth`` behind a wall surface, the
   depth measured by :func:`seawall.diagnostics.signed_wall_distance` (the
   same signed distance as the ``min_wall_distance_dx`` probe).
@@ -46,7 +51,7 @@ no hull (domain box only). Walls that move are followed (the hull is taken
 from their current positions at every check).
 
 **When the run is lost.** Removals for ``wall`` and ``unstable`` are damage;
-leaving the domain is not. The run stops with :class:`InstabilityError`
+leaving the domain (``domain``, ``overtopped``) is not. The run stops with :class:`InstabilityError`
 when the damage removals within the last ``unstable_window`` seconds exceed
 ``unstable_fraction`` of the fluid particles, or when the state cannot be
 repaired particle by particle (a non-finite time step after the removals).
@@ -65,8 +70,9 @@ KEEP = 0
 DOMAIN = 1
 WALL = 2
 UNSTABLE = 3
+OVERTOPPED = 4
 #: density out of band: ``unstable`` unless the particle is also inside a wall
-_DENSITY = 4
+_DENSITY = 5
 
 #: reasons that count as damage towards ``unstable_fraction``
 DAMAGE = ("wall", "unstable")
@@ -306,6 +312,55 @@ def wall_depth_codes(sim, depth, codes, top=None):
                               g.inv_cell, g.ncell, sim.physics.support2, deepest)
     if deepest is not None:
         codes[deepest < -depth] = WALL
+
+
+def column_tops(walls, axis, up, cell):
+    """The walls' top along gravity per horizontal column of width ``cell``: (lo, tops), with
+    ``tops`` an array over the columns (one axis in 2D, two in 3D) of the highest wall particle's
+    coordinate along ``up`` plus cell / 2 (its outer face), -inf where a column holds none."""
+    pos = np.concatenate([w.x for w in walls if w.n])
+    horizontal = [k for k in range(pos.shape[1]) if k != axis]
+    hx = pos[:, horizontal]
+    lo = hx.min(axis=0)
+    idx = np.floor((hx - lo) / cell).astype(np.int64)
+    shape = tuple(int(i) + 1 for i in idx.max(axis=0))
+    tops = np.full(shape, -np.inf)
+    np.maximum.at(tops, tuple(idx.T), up * pos[:, axis] + 0.5 * cell)
+    return lo, tops
+
+
+def overtopped_mask(x, walls, gravity, cell, reach):
+    """Which of the points ``x`` (fluid particles leaving the domain or the hull) left over the walls.
+
+    A point is overtopped when it is not below the top of the walls within ``reach`` of it across
+    gravity (:func:`column_tops`) by more than one ``cell``: a particle that passed over a crest is
+    removed at the hull's face within a step of leaving the crest, which is less than a cell
+    below its top at any stable time step (CFL <= 0.25, h <= 2 dx). One with no wall within
+    ``reach`` across gravity is overtopped only when it left through the top (it went out of an
+    open top, above every wall); below the walls' top it went through or under a wall (``domain``).
+    No gravity along one axis, or no walls: none is.
+    """
+    gravity = np.asarray(gravity, dtype=np.float64)
+    out = np.zeros(x.shape[0], dtype=bool)
+    if x.shape[0] == 0 or np.count_nonzero(gravity) != 1 or not any(w.n for w in walls):
+        return out
+    axis = int(np.flatnonzero(gravity)[0])
+    up = -np.sign(gravity[axis])
+    lo, tops = column_tops(walls, axis, up, cell)
+    overall = float(tops.max())
+    horizontal = [k for k in range(x.shape[1]) if k != axis]
+    span = int(math.ceil(reach / cell))
+    for i in range(x.shape[0]):
+        height = up * x[i, axis]
+        c = np.floor((x[i, horizontal] - lo) / cell).astype(np.int64)
+        window = tuple(slice(max(int(ck) - span, 0), max(int(ck) + span + 1, 0)) for ck in c)
+        near = tops[window]
+        local = float(near.max()) if near.size else -np.inf
+        if np.isfinite(local):
+            out[i] = height >= local - cell
+        else:
+            out[i] = height >= overall
+    return out
 
 
 def reason_name(code):

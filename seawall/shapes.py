@@ -347,7 +347,12 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
     ``lo + (i + 0.5) dx`` outwards; layer L lies (L + 0.5) dx outside a face.
     Corner/edge regions outside two or three faces are filled completely.
     With an open top the side walls span the interior's vertical cell centres
-    (plus the bottom corner layers) and stop below hi_last.
+    (plus the bottom corner layers) and stop at the last whole cell below
+    hi_last: their top face is the **crest**, a wall surface like the others. Particles nearer to the crest
+    than to the inner face take their surface point on it (normal up; layer =
+    rows below it), those as near to both the crest's inner edge (diagonal
+    normal), so water landing on or flowing over the crest meets a wall
+    surface, not the far side of the inner face.
 
     Parameters
     ----------
@@ -431,6 +436,22 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
     surface = np.where(below, lo, np.where(above, hi, pos))
     lay_axis = np.where(below, -idx - 1, np.where(above, idx - n_arr, -1))
     layer = lay_axis.max(axis=1)
+    if open_top:
+        # the crest: an open tank's side walls end in a top face at hi_last that water can
+        # land on and flow over. A side-wall particle nearer to it than to the inner face
+        # takes its surface point there (normal up); one as near to both (on the convex
+        # edge's bisector) takes the edge itself, with the bisecting normal, as mesh walls
+        # do (seawall.meshes), so fluid on the crest or inside the tank is never behind it.
+        side = ~below[:, -1]
+        crest_level = lo[-1] + n_int[-1] * dx   # the top of the side walls' upper cells
+        to_crest = crest_level - pos[:, -1]
+        to_inner = np.linalg.norm(surface[:, :-1] - pos[:, :-1], axis=1)
+        tol = _CELL_TOL * dx
+        crest = side & (to_crest < to_inner - tol)
+        edge = side & (np.abs(to_crest - to_inner) <= tol)
+        surface[crest, :-1] = pos[crest, :-1]
+        surface[crest | edge, -1] = crest_level
+        layer[crest] = np.minimum(layer[crest], np.floor(to_crest[crest] / dx + 1e-9).astype(layer.dtype))
     diff = surface - pos
     dist = np.linalg.norm(diff, axis=1)
     normals = diff / dist[:, None]

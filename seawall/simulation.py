@@ -32,8 +32,8 @@ from .fluid.rates import equation_of_state, fluid_rates, renormalised_density_gr
 from .fluid.regularisation import (concentration_sums, corrected_vectors, max_speed, surface_lambda,
                                    transport_stress)
 from .fluid.system import FluidSystem
-from .health import (DAMAGE, KEEP, UNSTABLE, WALL, _DENSITY, classify_particles, derive_hull, parse_guard_settings,
-                     parse_hull, reason_name, wall_depth_codes, walls_top)
+from .health import (DAMAGE, DOMAIN, KEEP, OVERTOPPED, UNSTABLE, WALL, _DENSITY, classify_particles, derive_hull,
+                     overtopped_mask, parse_guard_settings, parse_hull, reason_name, wall_depth_codes, walls_top)
 from .integrators import Integrator, Symplectic
 from .jit import PARTICLE_LOOPS, apply_threads, threads_for, use_threads
 from .kernels import CubicSpline, Kernel, kernel_shape
@@ -225,6 +225,7 @@ class Simulation(Runner):
         self._rates_ready = False
         self.escaped = []           # (time, id, x..., reason) of removed particles
         self.escaped_mass = 0.0
+        self.escaped_mass_by_reason = {}   # reason -> removed fluid mass
         for coupling in self.couplings:
             coupling.prepare(self)
         self._check_edac()
@@ -715,6 +716,11 @@ class Simulation(Runner):
         lo, hi = self._removal_box()
         classify_particles(fp["x"], fp["v"], fp["rho"], self.density_band[0] * rho0, self.density_band[1] * rho0,
                            lo, hi, codes)
+        gone = np.flatnonzero(codes == DOMAIN)
+        if gone.size and self.walls:
+            over = overtopped_mask(fp["x"][gone], self.walls, self.gravity, self.fluid.spacing,
+                                   self.kernel.support(self.h))
+            codes[gone[over]] = OVERTOPPED
         if self.wall_removal_depth is not None and self.walls:
             depth = (self.kernel.support(self.h) if self.wall_removal_depth == "support"
                      else self.wall_removal_depth * self.fluid.spacing)
@@ -745,6 +751,10 @@ class Simulation(Runner):
         for k in bad:
             self.escaped.append((self.time, int(fp["id"][k]), *fp["x"][k].tolist(), reason_name(int(codes[k]))))
         self.escaped_mass += float(fp["m"][bad].sum())
+        for code in np.unique(codes[bad]):
+            name = reason_name(int(code))
+            self.escaped_mass_by_reason[name] = (self.escaped_mass_by_reason.get(name, 0.0)
+                                                 + float(fp["m"][bad][codes[bad] == code].sum()))
         fp.keep(codes == KEEP)
 
     def _stop_unstable(self, bad, code, recent, n_fluid):
@@ -865,6 +875,8 @@ class Simulation(Runner):
             "particle_steps_per_s": float(particle_steps / loop_time) if loop_time > 0 else 0.0,
             "escaped_particles": len(self.escaped),
             "escaped_by_reason": escaped_by_reason(self.escaped, self.dim),
+            # the fluid mass removed per reason [kg, kg/m in 2D]: start mass = mass now + these + mass_drift
+            "escaped_mass_by_reason": {r: float(self.escaped_mass_by_reason.get(r, 0.0)) for r in REASONS},
             "escaped_where": escaped_where(self.escaped, self.grid, self.hull_box()),
             "mass_drift": float((mass_now + self.escaped_mass - initial - added) / initial),
             "fluid_mass_in_domain_change": float((mass_now - initial) / initial),
@@ -899,6 +911,7 @@ class Simulation(Runner):
 
     def _state_attrs(self):
         return {"escaped_mass": self.escaped_mass,
+                "escaped_mass_by_reason": dict(self.escaped_mass_by_reason),
                 "wall_model_state": {w.name: w.model.state() for w in self.walls},
                 "coupling_state": {c.name: c.state() for c in self.couplings},
                 "n_fluid_initial_mass": self.fluid.initial_mass,
@@ -938,6 +951,8 @@ class Simulation(Runner):
             new.add(name, a)
         self.fluid.particles = new
         self.escaped_mass = float(attrs["escaped_mass"])
+        # checkpoints written before the per-reason masses hold only the total (escaped_mass)
+        self.escaped_mass_by_reason = {k: float(v) for k, v in (attrs.get("escaped_mass_by_reason") or {}).items()}
         self.fluid.initial_mass = float(attrs["n_fluid_initial_mass"])
         records = arrays["escaped"]["records"]
         dim = self.dim

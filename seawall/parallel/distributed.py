@@ -553,6 +553,9 @@ class DistributedSimulation:
                     step=self.step, time=self.time, particle_id=rec[1], position=list(rec[2:2 + self.dim]))
         self.escaped.extend(rec for rec, _m in gathered)
         self.escaped_mass += sum(m for _rec, m in gathered)
+        for rec, m in gathered:
+            reason = record_reason(rec, self.dim)
+            self.escaped_mass_by_reason[reason] = self.escaped_mass_by_reason.get(reason, 0.0) + m
         keep = codes == KEEP
         self._n_own = int(np.count_nonzero(keep[:n]))
         fp.keep(keep)

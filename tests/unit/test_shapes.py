@@ -137,9 +137,27 @@ def test_tank_geometry(lo, hi, open_top):
     np.testing.assert_allclose(nrm, diff / dist[:, None], atol=1e-12)
     assert lay.min() == 0 and lay.max() == layers - 1
 
+    # an open tank's crest: the side walls' top face at hi_last; the particles nearer to it than
+    # to the inner face point straight up, those as near to both at the crest's inner edge
+    crest = np.zeros(w.n, dtype=bool)
+    if open_top:
+        beside = np.any((pos[:, :-1] < lo[:-1]) | (pos[:, :-1] > hi[:-1]), axis=1) & (pos[:, -1] > lo[-1])
+        to_crest = hi[-1] - pos[:, -1]
+        to_inner = np.linalg.norm(pos[:, :-1] - np.clip(pos[:, :-1], lo[:-1], hi[:-1]), axis=1)
+        crest = beside & (to_crest < to_inner - 1e-9)
+        edge = beside & (np.abs(to_crest - to_inner) <= 1e-9)
+        assert np.any(crest) and np.any(edge)
+        np.testing.assert_allclose(sp[crest | edge, -1], hi[-1], atol=1e-12)
+        np.testing.assert_allclose(nrm[crest, -1], 1.0, atol=1e-12)
+        assert np.all(lay[crest] <= np.floor(to_crest[crest] / dx + 1e-9))
+        np.testing.assert_allclose(sp[edge, :-1], np.clip(pos[edge, :-1], lo[:-1], hi[:-1]), atol=1e-12)
+        # nothing else points up out of a side wall, and a closed tank has no crest
+        assert not np.any(beside & ~(crest | edge) & (nrm[:, -1] > 1e-12))
+        crest |= edge
+
     # face particles: distance (layer + 0.5) dx, normal along one axis
     nout = _face_count(pos, lo, hi)
-    face = nout == 1
+    face = (nout == 1) & ~crest
     np.testing.assert_allclose(dist[face], (lay[face] + 0.5) * dx, rtol=1e-10)
     assert np.all(np.sum(np.abs(nrm[face]) > 1e-12, axis=1) == 1)
 
@@ -151,7 +169,7 @@ def test_tank_geometry(lo, hi, open_top):
     np.testing.assert_allclose(nrm[bottom], np.broadcast_to(up, nrm[bottom].shape), atol=1e-12)
 
     # corner particles: diagonal normals pointing to the corner point
-    corner = nout >= 2
+    corner = (nout >= 2) & ~crest
     assert np.any(corner)
     assert np.all(np.sum(np.abs(nrm[corner]) > 1e-12, axis=1) == nout[corner])
     k_out = (pos[corner] < lo) | (pos[corner] > hi)
@@ -166,7 +184,9 @@ def test_tank_geometry(lo, hi, open_top):
     # mirror points inside the closed interior box
     mirror = w.mirror_points
     np.testing.assert_allclose(mirror, 2 * sp - pos)
-    assert np.all(mirror >= lo - 1e-12) and np.all(mirror <= hi + 1e-12)
+    assert np.all(mirror[~crest] >= lo - 1e-12) and np.all(mirror[~crest] <= hi + 1e-12)
+    # ... and above the crest for its particles
+    assert np.all(mirror[crest, -1] > hi[-1])
 
     # no duplicates: closest pair is exactly one lattice spacing
     assert _pairwise_min(pos) == pytest.approx(dx, rel=1e-9)
@@ -207,6 +227,8 @@ def test_tank_open_top_non_multiple_height():
     # the open vertical axis need not be a whole number of cells
     w = shapes.tank((0.0, 0.0), (0.5, 0.33), 0.1, layers=2)
     assert w.positions[:, 1].max() == pytest.approx(0.25)
+    # the crest is the top of the walls' upper cells, not the unfilled hi
+    assert w.surface_points[:, 1].max() == pytest.approx(0.3)
     assert not np.any(np.all((w.positions > 0) & (w.positions < [0.5, 0.33]), axis=1))
 
 
