@@ -309,6 +309,10 @@ def case_help(case):
         lines.append(f"  file          {case.source['path']} (sha256 {case.source['sha256'][:12]})")
     lines.append(f"  defaults      --boundary {case.default_boundary}  --t-end {case.t_end:g}  "
                  f"--output-every {case.output_every:g}  --probe-every {case.probe_every:g}")
+    budget = _damage_budget_defaults(case)
+    lines.append(f"  damage budget --set unstable_fraction={budget['unstable_fraction']:g}  "
+                 f"--set unstable_window={budget['unstable_window']:g} (s; a run with a fluid stops when more "
+                 f"than that fraction is removed as wall/unstable within the window)")
     lines.append("  parameters (--set KEY=VALUE):")
     rows = [(key, "(case)" if p.default is None else _default_text(p.default), p.units, p.kind.__name__, p.doc)
             for key, p in case.parameters.items()]
@@ -318,6 +322,16 @@ def case_help(case):
     for key, default, unit, kind, doc in rows:
         lines.append(f"    {key:<{wk}}  {default:<{wd}}  {unit or '-':<{max(wu, 1)}}  {kind:<5}  {doc}")
     return "\n".join(lines) + "\n"
+
+
+def _damage_budget_defaults(case):
+    """The case's damage budget: its own ([case] keys of a TOML file) over Simulation's defaults."""
+    import inspect
+
+    from .simulation import Simulation
+
+    sig = inspect.signature(Simulation).parameters
+    return {k: (case.guards or {}).get(k, sig[k].default) for k in ("unstable_fraction", "unstable_window")}
 
 
 def cmd_new_case(args):

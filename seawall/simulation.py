@@ -877,6 +877,8 @@ class Simulation(Runner):
             **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
                if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
             "hull": _hull_summary(self.hull_box()),
+            # the budget this run stopped by (or would have): --set unstable_fraction / unstable_window
+            "damage_budget": {"unstable_fraction": self.unstable_fraction, "unstable_window": self.unstable_window},
             # the fluid loop's pairs: a kept list and how often it was rebuilt, or the cell walk
             "pair_list": self.pair_list.describe() if self.pair_list is not None else {"skin": 0.0},
             **({"couplings": {c.name: {"model": c.describe(), **c.summary()} for c in self.couplings}}

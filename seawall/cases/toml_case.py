@@ -2,7 +2,8 @@
 
 Layout (every table is described in docs/case-files.md)::
 
-    [case]        name, description, t_end, output_every, probe_every, boundary
+    [case]        name, description, t_end, output_every, probe_every, boundary,
+                  unstable_fraction, unstable_window      (the damage budget; each also a --set key)
     [parameters]  NAME = {default = ..., unit = "m", help = "..."}   (dx is required)
     [fluid]       rho0, c0, alpha, delta, h_factor, cfl      (each also a --set parameter)
     [tank]        lo, hi, open_top                             (the interior box; 2 or 3 coordinates)
@@ -28,7 +29,7 @@ import os
 import tomllib
 
 from ..errors import ParameterError
-from .base import GRAVITY, Case, Parameter
+from .base import GRAVITY, GUARD_KEYS, Case, Parameter, check_guard_settings
 
 #: the [fluid] keys, their defaults (those of seawall.cases.tanks.COMMON) and help
 FLUID_KEYS = {
@@ -39,7 +40,8 @@ FLUID_KEYS = {
     "h_factor": Parameter(1.3, "smoothing length h / dx"),
     "cfl": Parameter(0.2, "CFL number"),
 }
-CASE_KEYS = {"name", "description", "t_end", "output_every", "probe_every", "boundary"}
+CASE_KEYS = {"name", "description", "t_end", "output_every", "probe_every", "boundary",
+             "unstable_fraction", "unstable_window"}
 TANK_KEYS = {"lo", "hi", "open_top"}
 WATER_KEYS = {"lo", "hi", "pressure", "file"}
 WALL_KEYS = {"file", "name", "fluid"}
@@ -257,6 +259,11 @@ def case_from_toml(path):
                 if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
                     raise _Bad(f"[case] {key} must be a number > 0, got {value!r}")
                 numbers[key] = float(value)
+        guards = {k: meta[k] for k in GUARD_KEYS if k in meta}
+        try:
+            check_guard_settings(guards)
+        except ParameterError as exc:
+            raise _Bad(f"[case] {exc}") from None
         boundary = meta.get("boundary", "adami")
         from ..boundary.registry import BOUNDARIES
 
@@ -278,7 +285,7 @@ def case_from_toml(path):
 
     return Case(name=name, description=str(meta.get("description", f"water in a tank ({os.path.basename(path)})")),
                 builder=builder, parameters=parameters, dimension=dim, default_boundary=boundary,
-                **numbers)
+                guards={k: float(v) for k, v in guards.items()}, **numbers)
 
 
 def _mesh_path(folder, name):
