@@ -143,6 +143,11 @@ def build_parser():
                      help="pressure sensor: the wall pressure averaged over a face of the given diameter [m] "
                           "(a segment in 2D; default one kernel support) on the wall at the point; column "
                           "sensor:<k> in probes.csv (repeatable)")
+    run.add_argument("--gauge", action="append", metavar="x[,y][:NAME]",
+                     help="free-surface gauge: the elevation of the surface [m] above this horizontal position "
+                          "(x in 2D, x,y in 3D; gravity gives the vertical), as `seawall sample --gauge` reads "
+                          "it, the bed's elevation where dry; column gauge:<k> (gauge:NAME) in probes.csv "
+                          "(repeatable)")
     run.add_argument("--wall-force", action="append", metavar="NAME",
                      help="the fluid's force on the wall system NAME: columns wall_force:NAME:fx, :fy[, :fz] in "
                           "probes.csv [N, per metre of depth in 2D] (repeatable)")
@@ -458,6 +463,8 @@ def cmd_run(args):
 
         point, diameter = parse_sensor(text, sim.dim)
         sim.add(PressureSensor(f"sensor:{k}", point, diameter))
+    for k, text in enumerate(args.gauge or [], start=1):
+        _add_gauge(sim, case, k, text)
     for name in args.wall_force or []:
         _add_wall_force(sim, case, name)
     if args.diagnostics:
@@ -577,6 +584,32 @@ def _on_root(comm, action):
     message = comm.bcast(message, root=0)
     if message is not None:
         raise ParameterError(message)
+
+
+def parse_gauge(text, k):
+    """``--gauge x[,y][:NAME]`` -> (column name, horizontal coordinates): ``gauge:NAME``, else ``gauge:<k>``
+    (the column of `seawall sample --gauge`)."""
+    from .errors import ParameterError
+
+    where, sep, name = str(text).partition(":")
+    name = name.strip()
+    if sep and (not name or "," in name or ":" in name):
+        raise ParameterError(f"--gauge: NAME after ':' must be non-empty without ',' or ':', got {text!r}")
+    return f"gauge:{name or k}", _coordinates("--gauge", where, (1, 2))
+
+
+def _add_gauge(sim, case, k, text):
+    """--gauge x[,y][:NAME]: a FreeSurfaceGauge probe."""
+    from .errors import ParameterError
+    from .probes import FreeSurfaceGauge
+
+    name, position = parse_gauge(text, k)
+    if not hasattr(sim, "fluid"):
+        raise ParameterError(f"--gauge: case {case.name!r} has no fluid to gauge")
+    try:
+        sim.add(FreeSurfaceGauge(name, position))
+    except ParameterError as exc:
+        raise ParameterError(f"--gauge: {exc}") from None
 
 
 def _add_wall_force(sim, case, name):

@@ -142,3 +142,145 @@ def test_cases_name_shows_the_damage_budget(tmp_path, capsys):
     code, out, _ = run_cli(["cases", toml_file(tmp_path, "unstable_fraction = 0.02")], capsys)
     assert code == 0
     assert "--set unstable_fraction=0.02  --set unstable_window=0.05" in out
+
+
+# ----------------------------------------------------------------------------- free-surface gauges
+
+def test_run_time_gauge_reads_what_seawall_sample_reads_on_the_same_frames(tmp_path, capsys):
+    from seawall.postprocess import gauge_series
+
+    path = toml_file(tmp_path, tail="[[probe]]\nkind = \"gauge\"\nname = \"eta_mid\"\npoint = [\"0.5 * 0.5\"]\n")
+    out = tmp_path / "run"
+    code, _, err = run_cli(["run", path, "--no-progress", "--out", str(out), "--t-end", "0.02",
+                            "--output-every", "0.01", "--probe-every", "0.01",
+                            "--gauge", "0.1", "--gauge", "0.8:dry", "--gauge", "0.45"], capsys)
+    assert code == 0, err
+    rows = [line.split(",") for line in (out / "probes.csv").read_text().splitlines()]
+    header, values = rows[0], np.array(rows[1:], dtype=float)
+    assert header[-4:] == ["eta_mid", "gauge:1", "gauge:dry", "gauge:3"]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["probe_units"]["gauge:1"] == "m" and summary["probe_units"]["eta_mid"] == "m"
+    times, eta = gauge_series(str(out), [0.25, 0.1, 0.8, 0.45])
+    assert len(times) == 3
+    for f, t in enumerate(times):
+        row = values[np.argmin(np.abs(values[:, 0] - t))]
+        assert row[0] == pytest.approx(t, abs=1e-12)      # probes and frames at the same times
+        np.testing.assert_allclose(row[-4:], eta[f], rtol=0, atol=1e-9)
+    # still water 0.2 m deep over the floor (y = 0); over the dry floor: the bed, depth 0, not NaN
+    np.testing.assert_allclose(eta[0, [0, 1, 3]], 0.2, atol=0.01)
+    assert eta[0, 2] == 0.0 and values[0, header.index("gauge:dry")] == 0.0
+    # seawall sample --gauge writes the same numbers into sensors.csv
+    assert main(["sample", str(out), "--gauge", "0.8", "--gauge", "0.1"]) == 0
+    sensors = np.loadtxt(out / "sensors.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(sensors[:, 1:], eta[:, [2, 1]], atol=1e-8)
+
+
+def test_gauge_without_a_wall_under_it_reads_nan_and_in_3d_takes_two_coordinates():
+    from seawall.probes import FreeSurfaceGauge
+
+    sim = build("hydrostatic", dx=0.05)
+    far = FreeSurfaceGauge("far", 50.0)           # beyond the tank: no fluid, no bed
+    mid = FreeSurfaceGauge("mid", [0.5])
+    sim.add(far, mid)
+    assert np.isnan(far.sample(sim)) and mid.sample(sim) > 0
+    with pytest.raises(ParameterError, match="needs 1 horizontal coordinate"):
+        sim.add(FreeSurfaceGauge("xy", (0.5, 0.5)))
+    with pytest.raises(ParameterError, match="gauge 'bad'"):
+        FreeSurfaceGauge("bad", [0.1, 0.2, 0.3])
+
+
+@pytest.mark.parametrize("gauge,problem", [
+    ("abc", "--gauge must be 1 or 2 finite"), ("0.1,0.2", "--gauge: gauge 'gauge:1': needs 1 horizontal"),
+    ("0.1:", "--gauge: NAME"), ("0.1:a,b", "--gauge: NAME"), ("nan", "--gauge must be"),
+])
+def test_bad_gauge_on_the_command_line_is_one_line(tmp_path, capsys, gauge, problem):
+    out = tmp_path / "run"
+    code, _, err = run_cli(["run", "hydrostatic", "--dx", "0.05", "--t-end", "0.002", "--no-progress",
+                            "--out", str(out), "--gauge", gauge], capsys)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and problem in lines[0], lines
+    assert not out.exists()
+
+
+def test_gauge_names_from_the_command_line():
+    from seawall.cli import parse_gauge
+
+    assert parse_gauge("0.25", 1) == ("gauge:1", [0.25])
+    assert parse_gauge(" 0.25 , 0.5:toe", 3) == ("gauge:toe", [0.25, 0.5])
+
+
+# ----------------------------------------------------------------------------- TOML probes
+
+WALL_FORCES = """[[probe]]
+kind = "wall_force"
+name = "tank_fx"
+[[probe]]
+kind = "wall_force"
+name = "left_fx"
+wall = "tank"
+part = [[-1, -1], [0.51, 1]]
+[[probe]]
+kind = "wall_force"
+name = "right_fx"
+part = [[0.51, -1], [2, 1]]
+[[probe]]
+kind = "wall_force"
+name = "right_side"
+part = [["length", 0], [2, 1]]
+"""
+
+
+def test_wall_force_parts_add_up_to_the_wall_and_the_right_side_holds_the_water(tmp_path):
+    path = toml_file(tmp_path, tail=WALL_FORCES).replace("study", "study")
+    text = open(path).read().replace('[parameters]\n', '[parameters]\nlength = 1.0\n')
+    open(path, "w").write(text.replace("dx = {default = 0.05", "dx = {default = 0.025"))
+    sim = case_by_name(path).build(boundary="adami")
+    assert [p.name for p in sim.probes] == ["tank_fx", "left_fx", "right_fx", "right_side"]
+    assert all(p.wall == "tank" for p in sim.probes)                 # the default: the first wall, the tank
+    result = sim.run(0.01, progress=False)
+    final = {k: v[-1] for k, v in result.probes.items()}
+    # the two boxes split the tank's particles: their forces add up to the wall's, to rounding
+    assert final["left_fx"] + final["right_fx"] == pytest.approx(final["tank_fx"], abs=1e-9)
+    assert final["left_fx"] < 0 < final["right_fx"]
+    assert final["right_side"] == 0.0                     # the water (0 - 0.5 m) does not reach x = 1 m
+
+
+def test_wall_force_probes_name_every_wall_of_a_case():
+    import seawall as sw
+    from seawall.probes import WallForce
+
+    tank = sw.WallSystem(sw.shapes.tank((0, 0), (0.6, 0.3), 0.02, layers=3), name="tank")
+    block = sw.WallSystem(sw.shapes.rectangle((0.3, 0.0), (0.4, 0.08), 0.02), name="block")
+    fluid = sw.FluidSystem(sw.shapes.rectangle((0, 0), (0.3, 0.1), 0.02), eos=sw.Tait(c0=15.0))
+    sim = sw.Simulation([fluid, tank, block], h=0.026, gravity=(0, -9.81))
+    sim.add(WallForce("tank_fy", "tank", 1), WallForce("block_fx", "block", 0),
+            WallForce("block_part", "block", 0, part=[[0.3, 0.0], [0.33, 0.1]]), every=0.002)
+    result = sim.run(0.004, progress=False)
+    assert result.probes["tank_fy"][-1] < 0 and result.probes["block_fx"][-1] > 0
+    assert 0 < result.probes["block_part"][-1] <= result.probes["block_fx"][-1] + 1e-9
+    with pytest.raises(ParameterError, match="axis must be 0 .. 1"):
+        sim.add(WallForce("bad_axis", "block", 2))
+    with pytest.raises(ParameterError, match="no particle of wall 'block' lies in part"):
+        sim.add(WallForce("empty", "block", 0, part=[[2, 2], [3, 3]]))
+
+
+@pytest.mark.parametrize("probe,problem", [
+    ('kind = "gauge"', "(gauge) needs a point"),
+    ('kind = "gauge"\npoint = [0.2, 0.1]', "number 1 point of a gauge is its horizontal position"),
+    ('kind = "gauge"\npoint = ["2 * width"]', "unknown name 'width'"),
+    ('kind = "wall_force"\naxis = 2', "axis must be 0 .. 1, got 2"),
+    ('kind = "wall_force"\naxis = 0.5', "axis must be 0 .. 1, got 0.5"),
+    ('kind = "wall_force"\nwall = "lid"', "no wall named 'lid'"),
+    ('kind = "wall_force"\npart = [0, 1]', "part[0] must be a list of 2 or 3 numbers"),
+    ('kind = "wall_force"\npart = [[0, 0], [1, 1, 1]]', "part[1] has 3 coordinates, the tank has 2"),
+    ('kind = "wall_force"\npart = [[5, 5], [6, 6]]', "no particle of wall 'tank' lies in part"),
+    ('kind = "wall_force"\npart = [[1, 1], [0, 0]]', "part must be a box"),
+    ('kind = "front"\npart = [[0, 0], [1, 1]]', "part is a key of wall_force probes"),
+])
+def test_bad_probe_keys_in_a_case_file_are_one_line(tmp_path, capsys, probe, problem):
+    path = toml_file(tmp_path, tail=f"[[probe]]\n{probe}\n")
+    code, _, err = run_cli(["run", path, "--no-progress", "--out", str(tmp_path / "out")], capsys)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and path in lines[0] and problem in lines[0], lines
