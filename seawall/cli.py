@@ -227,10 +227,10 @@ def build_parser():
     sample.add_argument("--sensor", action="append", metavar="x,y[,z][:diameter]",
                         help="pressure sensor on a wall, as `seawall run --sensor`: face-averaged wall pressure "
                              "[Pa], column sensor:<k> of sensors.csv (repeatable)")
-    sample.add_argument("--gauge", action="append", metavar="x[,z]",
+    sample.add_argument("--gauge", action="append", metavar="x[,y]",
                         help="free-surface elevation [m] above this horizontal position (the horizontal "
-                             "coordinate(s), gravity giving the vertical), column gauge:<k> of sensors.csv "
-                             "(repeatable)")
+                             "coordinate(s), gravity giving the vertical; the bed's elevation where dry), as "
+                             "`seawall run --gauge`, column gauge:<k> of sensors.csv (repeatable)")
     sample.add_argument("--time", type=_time_of_snapshot, action="append",
                         help="the frame nearest to this time (repeatable; default every frame)")
     sample.add_argument("--quantities", default="pressure,u,v",

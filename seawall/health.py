@@ -50,6 +50,9 @@ leaving the domain is not. The run stops with :class:`InstabilityError`
 when the damage removals within the last ``unstable_window`` seconds exceed
 ``unstable_fraction`` of the fluid particles, or when the state cannot be
 repaired particle by particle (a non-finite time step after the removals).
+Both are settings of every case (``--set unstable_fraction=...``, ``[case]``
+keys of a TOML file; ``seawall.cases.base.GUARD_KEYS``), recorded in
+summary.json's ``damage_budget``.
 """
 
 import math
