@@ -284,3 +284,12 @@ def test_bad_probe_keys_in_a_case_file_are_one_line(tmp_path, capsys, probe, pro
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and path in lines[0] and problem in lines[0], lines
+
+
+def test_compare_and_sweep_refuse_a_bad_budget_before_any_run(tmp_path, capsys):
+    for args in (["compare", "hydrostatic", "--boundaries", "adami,dbc", "--jobs", "1"],
+                 ["sweep", "hydrostatic", "--set", "dx=0.05", "--jobs", "1"]):
+        code, _, err = run_cli(args + ["--out", str(tmp_path / args[0]), "--set", "unstable_window=0"], capsys)
+        assert code == 2
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and "unstable_window" in lines[0], lines
