@@ -143,6 +143,11 @@ def build_parser():
                      help="pressure sensor: the wall pressure averaged over a face of the given diameter [m] "
                           "(a segment in 2D; default one kernel support) on the wall at the point; column "
                           "sensor:<k> in probes.csv (repeatable)")
+    run.add_argument("--gauge", action="append", metavar="x[,y][:NAME]",
+                     help="free-surface gauge: the elevation of the surface [m] above this horizontal position "
+                          "(x in 2D, x,y in 3D; gravity gives the vertical), as `seawall sample --gauge` reads "
+                          "it, the bed's elevation where dry; column gauge:<k> (gauge:NAME) in probes.csv "
+                          "(repeatable)")
     run.add_argument("--wall-force", action="append", metavar="NAME",
                      help="the fluid's force on the wall system NAME: columns wall_force:NAME:fx, :fy[, :fz] in "
                           "probes.csv [N, per metre of depth in 2D] (repeatable)")
@@ -222,10 +227,10 @@ def build_parser():
     sample.add_argument("--sensor", action="append", metavar="x,y[,z][:diameter]",
                         help="pressure sensor on a wall, as `seawall run --sensor`: face-averaged wall pressure "
                              "[Pa], column sensor:<k> of sensors.csv (repeatable)")
-    sample.add_argument("--gauge", action="append", metavar="x[,z]",
+    sample.add_argument("--gauge", action="append", metavar="x[,y]",
                         help="free-surface elevation [m] above this horizontal position (the horizontal "
-                             "coordinate(s), gravity giving the vertical), column gauge:<k> of sensors.csv "
-                             "(repeatable)")
+                             "coordinate(s), gravity giving the vertical; the bed's elevation where dry), as "
+                             "`seawall run --gauge`, column gauge:<k> of sensors.csv (repeatable)")
     sample.add_argument("--time", type=_time_of_snapshot, action="append",
                         help="the frame nearest to this time (repeatable; default every frame)")
     sample.add_argument("--quantities", default="pressure,u,v",
@@ -309,6 +314,10 @@ def case_help(case):
         lines.append(f"  file          {case.source['path']} (sha256 {case.source['sha256'][:12]})")
     lines.append(f"  defaults      --boundary {case.default_boundary}  --t-end {case.t_end:g}  "
                  f"--output-every {case.output_every:g}  --probe-every {case.probe_every:g}")
+    budget = _damage_budget_defaults(case)
+    lines.append(f"  damage budget --set unstable_fraction={budget['unstable_fraction']:g}  "
+                 f"--set unstable_window={budget['unstable_window']:g} (s; a run with a fluid stops when more "
+                 f"than that fraction is removed as wall/unstable within the window)")
     lines.append("  parameters (--set KEY=VALUE):")
     rows = [(key, "(case)" if p.default is None else _default_text(p.default), p.units, p.kind.__name__, p.doc)
             for key, p in case.parameters.items()]
@@ -318,6 +327,16 @@ def case_help(case):
     for key, default, unit, kind, doc in rows:
         lines.append(f"    {key:<{wk}}  {default:<{wd}}  {unit or '-':<{max(wu, 1)}}  {kind:<5}  {doc}")
     return "\n".join(lines) + "\n"
+
+
+def _damage_budget_defaults(case):
+    """The case's damage budget: its own ([case] keys of a TOML file) over Simulation's defaults."""
+    import inspect
+
+    from .simulation import Simulation
+
+    sig = inspect.signature(Simulation).parameters
+    return {k: (case.guards or {}).get(k, sig[k].default) for k in ("unstable_fraction", "unstable_window")}
 
 
 def cmd_new_case(args):
@@ -444,6 +463,8 @@ def cmd_run(args):
 
         point, diameter = parse_sensor(text, sim.dim)
         sim.add(PressureSensor(f"sensor:{k}", point, diameter))
+    for k, text in enumerate(args.gauge or [], start=1):
+        _add_gauge(sim, case, k, text)
     for name in args.wall_force or []:
         _add_wall_force(sim, case, name)
     if args.diagnostics:
@@ -563,6 +584,32 @@ def _on_root(comm, action):
     message = comm.bcast(message, root=0)
     if message is not None:
         raise ParameterError(message)
+
+
+def parse_gauge(text, k):
+    """``--gauge x[,y][:NAME]`` -> (column name, horizontal coordinates): ``gauge:NAME``, else ``gauge:<k>``
+    (the column of `seawall sample --gauge`)."""
+    from .errors import ParameterError
+
+    where, sep, name = str(text).partition(":")
+    name = name.strip()
+    if sep and (not name or "," in name or ":" in name):
+        raise ParameterError(f"--gauge: NAME after ':' must be non-empty without ',' or ':', got {text!r}")
+    return f"gauge:{name or k}", _coordinates("--gauge", where, (1, 2))
+
+
+def _add_gauge(sim, case, k, text):
+    """--gauge x[,y][:NAME]: a FreeSurfaceGauge probe."""
+    from .errors import ParameterError
+    from .probes import FreeSurfaceGauge
+
+    name, position = parse_gauge(text, k)
+    if not hasattr(sim, "fluid"):
+        raise ParameterError(f"--gauge: case {case.name!r} has no fluid to gauge")
+    try:
+        sim.add(FreeSurfaceGauge(name, position))
+    except ParameterError as exc:
+        raise ParameterError(f"--gauge: {exc}") from None
 
 
 def _add_wall_force(sim, case, name):

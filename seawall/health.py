@@ -55,6 +55,9 @@ leaving the domain (``domain``, ``overtopped``) is not. The run stops with :clas
 when the damage removals within the last ``unstable_window`` seconds exceed
 ``unstable_fraction`` of the fluid particles, or when the state cannot be
 repaired particle by particle (a non-finite time step after the removals).
+Both are settings of every case (``--set unstable_fraction=...``, ``[case]``
+keys of a TOML file; ``seawall.cases.base.GUARD_KEYS``), recorded in
+summary.json's ``damage_budget``.
 """
 
 import math

@@ -17,7 +17,8 @@ Both read only the files ``seawall run`` wrote, so they work after the run
 * :func:`sensor_series` -- the face-averaged wall pressure of a pressure sensor
   (the read-out of the run-time ``PressureSensor``, ``--sensor``) from stored frames.
 * :func:`gauge_series` -- the free-surface elevation above given horizontal
-  positions (wave gauges) from stored frames.
+  positions (wave gauges) from stored frames; the bed's elevation where dry (the
+  read-out of the run-time ``FreeSurfaceGauge``, ``--gauge``).
 """
 
 import os
@@ -276,37 +277,36 @@ def _kernel_weights(points, x, kernel, h):
             yield m, d, kernel.value(r[near], h, dim), near
 
 
-def gauge_series(run_dir, positions, times=None, resolution=0.25):
+def gauge_series(run_dir, positions, times=None, resolution=None):
     """Free-surface elevation [m] above the given horizontal positions in the stored frames.
 
     The vertical is the axis of gravity (stored in the files). Along the vertical line through
     each position the Shepard sum of the fluid, sum_f V_f W_f ([Huang2019] eq. 16's
-    denominator: 1 inside the fluid, 0 outside), is evaluated every ``resolution`` dx, and the
-    elevation is the highest height where it crosses 0.5, interpolated linearly (the
-    half-filled kernel of a flat surface sits on the surface). NaN where the line meets no
-    fluid. ``positions``: the horizontal coordinates (x in 2D; the two horizontal axes in 3D,
+    denominator: 1 inside the fluid, 0 outside), is evaluated every ``resolution`` dx (default
+    :data:`seawall.probes.GAUGE_RESOLUTION`, 1/4), and the elevation is the highest height
+    where it crosses 0.5, interpolated linearly (the half-filled kernel of a flat surface sits
+    on the surface). The run-time :class:`seawall.probes.FreeSurfaceGauge` (``seawall run
+    --gauge``) is this definition, evaluated during the run. Where the line meets no fluid
+    (a dry bed) the value is the bed's elevation from the wall files
+    (:func:`seawall.probes.bed_level`: water depth 0), NaN where no wall lies under the line.
+    ``positions``: the horizontal coordinates (x in 2D; the two horizontal axes in 3D,
     in axis order). Returns (frame times (F,), (F, G) array). On a lattice block the
     half-filled kernel lies 0.001 dx above the surface; within one kernel support of a side wall
     or of the fluid's edge the kernel is cut sideways too and the gauge reads low (on a 0.3 m
     still tank at dx = 0.05 m: 0.2965 m at one dx from the wall, 0.3000 m mid-tank).
     """
+    from .probes import GAUGE_RESOLUTION, bed_level, gauge_heights, gauge_vertical, surface_crossing
+
+    resolution = GAUGE_RESOLUTION if resolution is None else resolution
     frames = list(_fluid_frames(run_dir, times))
     values = np.full((len(frames), len(positions)), np.nan)
+    walls = None          # read only when a gauge is dry
     for f, (t, path, x, data, meta, kernel, h) in enumerate(frames):
         dim = x.shape[1]
         g = _gravity(meta, path, "a free-surface gauge")
-        if not np.any(g):
-            raise ParameterError("a free-surface gauge needs gravity; the run has none")
-        up = int(np.argmax(np.abs(g)))
-        if np.count_nonzero(g) != 1:
-            raise ParameterError(f"a free-surface gauge needs gravity along one axis, got {g.tolist()}")
-        horizontal = [a for a in range(dim) if a != up]
+        up, horizontal = gauge_vertical(g, dim)
         dx = float(meta.get("dx", h))
-        support = kernel.support(h)
-        lo, hi = x[:, up].min() - support, x[:, up].max() + support
-        heights = np.arange(lo, hi + resolution * dx, resolution * dx)
-        if g[up] > 0:              # gravity towards +axis: the surface is the lowest crossing
-            heights = heights[::-1]
+        heights = gauge_heights(x[:, up], g[up], kernel.support(h), dx, resolution)
         volume = _volume(data)
         for k, pos in enumerate(positions):
             pos = np.atleast_1d(np.asarray(pos, dtype=np.float64))
@@ -318,14 +318,16 @@ def gauge_series(run_dir, positions, times=None, resolution=0.25):
             pts[:, up] = heights
             full = _filled(pts, x, volume, kernel, h)
             wet = np.nonzero(full >= 0.5)[0]
-            if wet.size == 0:
+            if wet.size:
+                values[f, k] = surface_crossing(heights, full, wet[-1])
                 continue
-            top = wet[-1]
-            if top + 1 < heights.size:
-                a, b = full[top], full[top + 1]
-                values[f, k] = heights[top] + (a - 0.5) / (a - b) * (heights[top + 1] - heights[top])
-            else:
-                values[f, k] = heights[top]
+            if walls is None:
+                all_frames = _series(run_dir)
+                walls = (_wall_surface_frames(run_dir, len(all_frames), dim),
+                         {p: n for n, (_, p) in enumerate(all_frames)})
+            surface = walls[0][walls[1][path]]
+            if surface is not None:
+                values[f, k] = bed_level(*surface, pos, up, horizontal, g[up], dx)
     return np.array([fr[0] for fr in frames]), values
 
 

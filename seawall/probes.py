@@ -13,6 +13,11 @@ means the same thing whatever wall model is used:
   face: a disc of given diameter (a segment in 2D) on the wall surface, as a
   real transducer integrates the pressure over its membrane.
 * :class:`Pressure` -- Shepard average sum_f p_f W / sum_f W at an interior point.
+* :class:`FreeSurfaceGauge` -- a wave gauge: the elevation of the free surface
+  above a horizontal position [m], by the definition of ``seawall sample
+  --gauge`` (:func:`seawall.postprocess.gauge_series`), so the run-time and the
+  post-processed gauge agree on the same frame; over a dry bed it reads the
+  bed's elevation (water depth 0).
 * :class:`SurgeFront` -- largest coordinate of any fluid particle along an axis.
 * :class:`KineticEnergy`, :class:`TotalMass`.
 """
@@ -280,16 +285,58 @@ class WallForce(Probe):
     The sum over fluid particles of -m_i times the wall's contribution to
     their acceleration, at the last evaluation of the rates (the pairwise form
     of [Huang2019] eq. 29 for a momentum-conserving wall model).
+
+    ``part`` = (lo, hi), a box: only the force on the wall particles inside it (e.g. the right
+    side of a tank, whose corners belong to the box that holds them). It is the same sum with
+    the wall model acting through those particles alone, one extra pass of the model over
+    them per evaluation; it needs a model whose push is a sum of pair forces
+    (``pairwise_momentum``, as the per-particle forces of
+    :mod:`seawall.boundary.particle_forces`): boxes that split a wall's particles then give
+    forces that add up to the wall's.
     """
 
     unit = "N"
 
-    def __init__(self, name: str, wall: str, axis: int = 0) -> None:
+    def __init__(self, name: str, wall: str, axis: int = 0, part: Sequence[Sequence[float]] | None = None) -> None:
         super().__init__(name)
         self.wall = str(wall)
         self.axis = int(axis)
+        self.part = None
+        if part is not None:
+            try:
+                lo, hi = (np.asarray(c, dtype=np.float64) for c in part)
+            except (TypeError, ValueError):
+                lo = hi = np.zeros(0)
+            if (lo.ndim != 1 or lo.shape != hi.shape or lo.size not in (2, 3) or not np.all(np.isfinite(lo))
+                    or not np.all(np.isfinite(hi)) or not np.all(hi > lo)):
+                raise ParameterError(f"wall force {name!r}: part must be a box [lo, hi] of 2 or 3 finite "
+                                     f"coordinates each with hi > lo, got {part!r}")
+            self.part = (tuple(lo.tolist()), tuple(hi.tolist()))
+        # a part's force is summed over the fluid each rank owns (the wall's total is already global)
+        self.mpi_reduction = "sum" if self.part is not None else None
+
+    def attach(self, sim: Simulation) -> None:
+        """Check the axis and the part against the run; register the part (called by ``Simulation.add``)."""
+        if not 0 <= self.axis < sim.dim:
+            raise ParameterError(f"wall force {self.name!r}: axis must be 0 .. {sim.dim - 1}, got {self.axis}")
+        if self.part is None:
+            return
+        wall = next(w for w in sim.walls if w.name == self.wall)
+        lo, hi = (np.asarray(c) for c in self.part)
+        if lo.size != sim.dim:
+            raise ParameterError(f"wall force {self.name!r}: part has {lo.size} coordinates, the run is {sim.dim}D")
+        if not getattr(type(wall.model), "pairwise_momentum", False):
+            raise ParameterError(f"wall force {self.name!r}: part needs a wall model whose push is a sum of pair "
+                                 f"forces (pairwise_momentum); {type(wall.model).__name__} of wall {wall.name!r} "
+                                 f"is not one (the whole wall's force needs no part)")
+        if not np.any(np.all((wall.x >= lo) & (wall.x <= hi), axis=1)):
+            raise ParameterError(f"wall force {self.name!r}: no particle of wall {wall.name!r} lies in part "
+                                 f"{lo.tolist()} - {hi.tolist()}")
+        sim.wall_part_forces.setdefault(self.wall, {})[self.part] = np.zeros(sim.dim)
 
     def sample(self, sim):
+        if self.part is not None:
+            return float(sim.wall_part_forces[self.wall][self.part][self.axis])
         return float(sim.wall_forces[self.wall][self.axis])
 
 
@@ -316,3 +363,150 @@ class TotalMass(Probe):
 
     def sample(self, sim):
         return float(np.sum(sim.fluid.particles["m"]))
+
+
+#: the vertical step of a free-surface gauge's line of points, in dx (seawall sample --gauge's too)
+GAUGE_RESOLUTION = 0.25
+
+
+@njit(cache=True)
+def gauge_column(layout, points, xf, volume, start, order, lo, inv_cell, ncell, period, prm, full):
+    """The Shepard sum sum_f V_f W at ``points`` (a vertical line, ordered upwards), from the last point
+    down, stopping at the first where it reaches 0.5; returns that index (-1: none). ``full[k]`` is set
+    for the points visited (the one above the crossing included), so only the line's dry part and one
+    wet point are evaluated."""
+    dim = tag_dim(layout)
+    periodic = tag_periodic(layout)
+    inv_h = 1.0 / prm.h
+    nrows = 25 if dim == 3 else 5
+    for k in range(points.shape[0] - 1, -1, -1):
+        p0 = points[k, 0]
+        p1 = points[k, 1]
+        p2 = points[k, 2] if dim == 3 else 0.0
+        cx, cy, cz = cell_index(p0, p1, p2, lo, inv_cell, ncell)
+        sv = 0.0
+        for row in range(nrows):
+            for part in range(2):
+                ka, kb = neighbour_range(row, part, cx, cy, cz, ncell, period, start)
+                for kk in range(ka, kb):
+                    f = order[kk]
+                    d0, d1, d2, r2 = separation(p0, p1, p2, xf, f, dim, periodic, period)
+                    if r2 >= prm.support2:
+                        continue
+                    sv += volume[f] * prm.sigma * kernel_shape(prm.kernel, np.sqrt(r2) * inv_h)
+        full[k] = sv
+        if sv >= 0.5:
+            return k
+    return -1
+
+
+def gauge_vertical(gravity, dim):
+    """(up axis, horizontal axes) of a free-surface gauge; ParameterError without gravity along one axis."""
+    g = np.asarray(gravity, dtype=np.float64)[:dim]
+    if not np.any(g):
+        raise ParameterError("a free-surface gauge needs gravity; the run has none")
+    if np.count_nonzero(g) != 1:
+        raise ParameterError(f"a free-surface gauge needs gravity along one axis, got {g.tolist()}")
+    up = int(np.argmax(np.abs(g)))
+    return up, [a for a in range(dim) if a != up]
+
+
+def gauge_heights(x_up, gravity_up, support, dx, resolution=GAUGE_RESOLUTION):
+    """The heights of a gauge's vertical line: every ``resolution`` dx from one support below the lowest
+    fluid particle to one above the highest (``x_up``: the fluid's vertical coordinates), ordered upwards
+    (against gravity, whose vertical component is ``gravity_up``)."""
+    lo, hi = x_up.min() - support, x_up.max() + support
+    heights = np.arange(lo, hi + resolution * dx, resolution * dx)
+    return heights[::-1] if gravity_up > 0 else heights
+
+
+def surface_crossing(heights, full, top):
+    """Elevation where the Shepard sum ``full`` along ``heights`` falls through 0.5 above index ``top``
+    (the highest wet point), interpolated linearly."""
+    if top + 1 < heights.size:
+        a, b = full[top], full[top + 1]
+        return float(heights[top] + (a - 0.5) / (a - b) * (heights[top + 1] - heights[top]))
+    return float(heights[top])
+
+
+def bed_level(wall_x, normals, surfaces, position, up, horizontal, gravity_up, dx):
+    """Elevation of the bed under a dry gauge: the highest surface point (along the upward direction)
+    of the wall particles within dx/2 of the gauge's vertical line (each horizontal coordinate) whose
+    normal points upwards; NaN if there is none (no wall under the gauge)."""
+    if wall_x is None or wall_x.shape[0] == 0:
+        return float("nan")
+    sign = -1.0 if gravity_up > 0 else 1.0
+    near = sign * normals[:, up] > 0.0
+    for a, c in zip(horizontal, position):
+        near &= np.abs(wall_x[:, a] - c) <= 0.5 * dx + 1e-12 * max(1.0, abs(c))
+    if not near.any():
+        return float("nan")
+    return float(sign * np.max(sign * surfaces[near, up]))
+
+
+class FreeSurfaceGauge(Probe):
+    """Elevation of the free surface above a horizontal position [m] (a wave gauge).
+
+    Along the vertical line through ``x`` (gravity gives the vertical) the Shepard sum of the
+    fluid, sum_f V_f W ([Huang2019] eq. 16's denominator: 1 inside the fluid, 0 outside), is
+    evaluated every dx/4 from one kernel support below the lowest fluid particle to one above
+    the highest, and the value is the highest height where it crosses 0.5, interpolated
+    linearly: the definition of ``seawall sample --gauge``
+    (:func:`seawall.postprocess.gauge_series`), so both read the same on the same frame. The
+    line is evaluated from the top down to the crossing, through the compiled cell search.
+    Where the line meets no fluid (a dry bed, or a film thinner than about a kernel's
+    half-support) the gauge reads the elevation of the bed under it, :func:`bed_level`: the
+    water depth, gauge minus bed, is then 0; NaN only where there is no wall under the line.
+
+    Parameters
+    ----------
+    name : str
+        Column name.
+    x : float or (float, float)
+        The horizontal position: x in 2D, the two horizontal coordinates (in axis order) in 3D [m].
+    """
+
+    unit = "m"
+
+    def __init__(self, name: str, x: float | Sequence[float]) -> None:
+        super().__init__(name)
+        try:
+            pos = np.atleast_1d(np.asarray(x, dtype=np.float64))
+        except (TypeError, ValueError):
+            pos = np.zeros(0)
+        if pos.ndim != 1 or pos.size not in (1, 2) or not np.all(np.isfinite(pos)):
+            raise ParameterError(f"gauge {name!r}: x must be 1 finite number (2D) or 2 (3D), got {x!r}")
+        self.position = pos
+
+    def attach(self, sim: Simulation) -> None:
+        """Check the position's coordinates against the run (called by ``Simulation.add``)."""
+        up, horizontal = gauge_vertical(sim.gravity, sim.dim)
+        if self.position.size != len(horizontal):
+            raise ParameterError(f"gauge {self.name!r}: needs {len(horizontal)} horizontal coordinate(s) in a "
+                                 f"{sim.dim}D run, got {self.position.tolist()}")
+
+    def sample(self, sim):
+        fp = sim.fluid.particles
+        cells = sim.fluid_cells
+        up, horizontal = gauge_vertical(sim.gravity, sim.dim)
+        gravity_up = float(np.asarray(sim.gravity)[up])
+        dx = sim.fluid.spacing
+        if cells is None and fp.n > 0:      # before the run's first step: the cells of the state as it is
+            cells = sim.grid.build(fp["x"])
+        if fp.n > 0:
+            heights = gauge_heights(fp["x"][:, up], gravity_up, sim.kernel.support(sim.h), dx)
+            pts = np.zeros((heights.size, 3))
+            pts[:, horizontal] = self.position
+            pts[:, up] = heights
+            full = np.zeros(heights.size)
+            g = sim.grid
+            top = gauge_column(g.layout, pts, fp["x"], fp["m"] / fp["rho"], cells.start, cells.order, g.lo,
+                               g.inv_cell, g.ncell, g.period, sim.physics, full)
+            if top >= 0:
+                return surface_crossing(heights, full, top)
+        walls = [w.particles for w in sim.walls if w.n and "normal" in w.particles and "surface" in w.particles]
+        if not walls:
+            return float("nan")
+        return bed_level(np.concatenate([w["x"] for w in walls]), np.concatenate([w["normal"] for w in walls]),
+                         np.concatenate([w["surface"] for w in walls]), self.position, up, horizontal,
+                         gravity_up, dx)

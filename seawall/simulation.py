@@ -23,7 +23,7 @@ from .boundary.adhesion import add_adhesion
 from .boundary.base import EvaluationContext, WallSystem, check_contract
 from . import compile_ahead, subnormals
 from .coupling import Coupling
-from .boundary.particle_forces import defines_particle_forces, particle_forces
+from .boundary.particle_forces import defines_particle_forces, part_force, particle_forces
 from .diagnostics import REASONS, escaped_by_reason, escaped_where, record_reason
 from .errors import InstabilityError, ParameterError, require_positive
 from .fluid.edac import edac_pressure_advection_rates, edac_state, edac_wall_diffusion
@@ -187,6 +187,8 @@ class Simulation(Runner):
         #: evaluations the runner asks for (record_particle_forces) for the VTU frames
         self.record_particle_forces = False
         self.wall_particle_forces = {}
+        #: {wall name: {(lo, hi): force}} of the WallForce probes given a part of a wall
+        self.wall_part_forces = {}
         self._last_context = None
 
         self.physics = self._compile_physics(g)
@@ -617,6 +619,8 @@ class Simulation(Runner):
                 # over the particles this process owns (all of them unless the run is decomposed)
                 n = self._owned_rows()
                 self.wall_forces[wall.name] = -np.sum(fp["m"][:n, None] * added[:n], axis=0)
+                for box in self.wall_part_forces.get(wall.name, ()):   # WallForce(part=...) probes
+                    self.wall_part_forces[wall.name][box] = part_force(self, wall, ctx, box)
             else:
                 self._wall_acts(wall, ctx)
             if self.record_particle_forces and defines_particle_forces(wall):
@@ -889,6 +893,8 @@ class Simulation(Runner):
             **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
                if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
             "hull": _hull_summary(self.hull_box()),
+            # the budget this run stopped by (or would have): --set unstable_fraction / unstable_window
+            "damage_budget": {"unstable_fraction": self.unstable_fraction, "unstable_window": self.unstable_window},
             # the fluid loop's pairs: a kept list and how often it was rebuilt, or the cell walk
             "pair_list": self.pair_list.describe() if self.pair_list is not None else {"skin": 0.0},
             **({"couplings": {c.name: {"model": c.describe(), **c.summary()} for c in self.couplings}}

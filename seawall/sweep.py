@@ -3,7 +3,8 @@
 The runs are the Cartesian product of the ``--set`` values, the first key outermost (as
 nested loops in the order given; a key with one value is a fixed setting of every run).
 A key is anything ``seawall run --set`` takes -- a case parameter, an option of the wall
-model, ``adhesion_coefficient`` or a regularisation key -- checked the same way before any
+model, ``adhesion_coefficient``, a regularisation key or the damage budget (``unstable_fraction``,
+``unstable_window``) -- checked the same way before any
 run starts; the key ``boundary`` sweeps the wall model itself.
 
 Each run has its own directory under ``--out``, ``NNN_K=v_K2=v2`` (NNN its position in the
@@ -86,12 +87,13 @@ def check_settings(case, boundary, params):
     parameters' values, without building: the same routing of a key (wall-model option, adhesion,
     regularisation, else a case parameter) and the same checks (``Case.resolve``, the model's factory)."""
     from .boundary.registry import boundary_by_name, boundary_options
-    from .cases.base import ADHESION_KEY, REGULARISATION_KEYS
+    from .cases.base import ADHESION_KEY, GUARD_KEYS, REGULARISATION_KEYS, check_guard_settings
 
     model_keys = boundary_options(boundary)
     options = {k: v for k, v in params.items() if k in model_keys}
+    check_guard_settings({k: v for k, v in params.items() if k in GUARD_KEYS and k not in model_keys})
     rest = {k: v for k, v in params.items()
-            if k not in model_keys and k != ADHESION_KEY and k not in REGULARISATION_KEYS}
+            if k not in model_keys and k != ADHESION_KEY and k not in REGULARISATION_KEYS and k not in GUARD_KEYS}
     if "dx" in rest and "dx" not in case.parameters:
         raise ParameterError(f"case {case.name!r} takes no dx")
     case.resolve(rest)

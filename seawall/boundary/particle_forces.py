@@ -135,3 +135,28 @@ def particle_forces(sim, wall, ctx):
         for axis in range(dim):
             force[:, axis] += np.bincount(members[owner], weights=reaction[:, axis], minlength=wall.n)
     return force
+
+
+def part_force(sim, wall, ctx, box):
+    """The fluid's force on the particles of ``wall`` inside ``box`` = (lo, hi) [N, per metre in 2D]:
+    minus what the model (and the wall's adhesion) adds to m_i dv_i acting through those particles
+    alone, over the fluid rows this process owns. Exact for a ``pairwise_momentum`` model, whose
+    push is additive over any split of the wall; called by ``Simulation.evaluate`` where the
+    wall's total is taken, into scratch arrays."""
+    from ..views import Rates
+    from .adhesion import add_adhesion
+
+    fp = sim.fluid.particles
+    lo, hi = (np.asarray(c) for c in box)
+    keep = np.all((wall.particles["x"] >= lo) & (wall.particles["x"] <= hi), axis=1)
+    if not keep.any():          # a moving wall may leave the box
+        return np.zeros(wall.dim)
+    part = _wall_part(wall, keep, sim.grid)
+    dv = np.zeros_like(fp["dv"])
+    drho = np.zeros_like(fp["drho"])
+    scratch = dataclasses.replace(ctx, rates=Rates(dv, drho, np.zeros_like(fp["xsph"]), np.zeros_like(fp["mu_max"])))
+    wall.model.interact(sim.fluid, part, scratch, dv, drho)
+    if wall.adhesion_coefficient > 0.0:
+        add_adhesion(part, sim.fluid, scratch, sim.kernel.support(sim.h), dv)
+    n = sim._owned_rows()
+    return -np.sum(fp["m"][:n, None] * dv[:n], axis=0)

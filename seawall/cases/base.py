@@ -70,6 +70,8 @@ class Case:
     regularisation: dict = field(default_factory=dict)
     #: the case's default pressure model (--set keys of :data:`PRESSURE_KEYS`; empty: the equation of state)
     pressure: dict = field(default_factory=dict)
+    #: the case's default damage budget (--set keys of :data:`GUARD_KEYS`; empty: Simulation's 0.001 in 0.05 s)
+    guards: dict = field(default_factory=dict)
 
     def _regularisation(self, sim, given):
         return _case_regularisation(self, sim, given)
@@ -114,6 +116,8 @@ class Case:
         adhesion = overrides.pop(ADHESION_KEY, None)
         given_regularisation = {k: overrides.pop(k) for k in REGULARISATION_KEYS if k in overrides}
         given_pressure = {k: overrides.pop(k) for k in PRESSURE_KEYS if k in overrides}
+        given_guards = {k: overrides.pop(k) for k in GUARD_KEYS if k in overrides}
+        check_guard_settings(given_guards)   # before the build: a bad value costs no set-up
         given_options = dict(sorted({**model_options, **({ADHESION_KEY: adhesion} if adhesion is not None else {})}
                                     .items()))
         params = self.resolve(overrides)
@@ -134,6 +138,7 @@ class Case:
         pressure = _case_pressure(self, sim, given_pressure)
         if pressure is not None:
             params.update(pressure)
+        _case_guards(self, sim, given_guards)
         if adhesion is not None:
             try:
                 beta = float(adhesion)
@@ -170,6 +175,41 @@ REGULARISATION_KEYS = ("shifting", "transport_velocity", "tvf_background", "tvf_
 #: seawall.fluid.edac); edac_alpha = alpha of nu_edac = alpha h c0 / 8 (0.5). Not "pressure": lust takes
 #: that key for its wall pressure
 PRESSURE_KEYS = ("pressure_model", "edac_alpha")
+
+
+#: the --set keys of the damage budget, any SPH case: the run stops as unstable when the particles removed as
+#: wall or unstable within the last unstable_window seconds exceed unstable_fraction of the fluid (seawall.health).
+#: Not case parameters: a budget only decides when a run stops, not how its particles move, so it is recorded in
+#: summary.json's damage_budget and, like the end time, may change on a restart
+GUARD_KEYS = ("unstable_fraction", "unstable_window")
+
+
+def check_guard_settings(given):
+    """Refuse a bad damage-budget value (:data:`GUARD_KEYS` -> value or text) in one line naming its key."""
+    from ..health import parse_guard_settings
+
+    for key, value in given.items():
+        if isinstance(value, bool):    # float(True) is 1.0: a boolean is a slip, not a number
+            raise ParameterError(f"{key} must be a number, got {value!r}")
+        if key == "unstable_fraction":
+            parse_guard_settings(None, value, 1.0)
+        else:
+            parse_guard_settings(None, 0.5, value)
+
+
+def _case_guards(case, sim, given):
+    """Apply the case's damage budget overridden by ``given`` (--set keys) to ``sim``."""
+    if not hasattr(sim, "unstable_fraction"):
+        if given:
+            raise ParameterError(f"case {case.name!r} has no SPH fluid: {sorted(given)[0]} does not apply")
+        return
+    from ..health import parse_guard_settings
+
+    opts = {**case.guards, **given}
+    if opts:
+        _, sim.unstable_fraction, sim.unstable_window = parse_guard_settings(
+            None, opts.get("unstable_fraction", sim.unstable_fraction),
+            opts.get("unstable_window", sim.unstable_window))
 
 
 def _no_fluid(case, sim, setter, given):

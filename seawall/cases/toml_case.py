@@ -2,14 +2,16 @@
 
 Layout (every table is described in docs/case-files.md)::
 
-    [case]        name, description, t_end, output_every, probe_every, boundary
+    [case]        name, description, t_end, output_every, probe_every, boundary,
+                  unstable_fraction, unstable_window      (the damage budget; each also a --set key)
     [parameters]  NAME = {default = ..., unit = "m", help = "..."}   (dx is required)
     [fluid]       rho0, c0, alpha, delta, h_factor, cfl      (each also a --set parameter)
     [tank]        lo, hi, open_top                             (the interior box; 2 or 3 coordinates)
     [[wall]]      file, name, fluid = "outside" | "inside"     (3D walls from STL/OBJ files, seawall.meshes)
     [[water]]     lo, hi | file, pressure = "hydrostatic" | "rest"   (blocks, or fills of closed meshes)
-    [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force, name, point, axis,
-                  wall
+    [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force | gauge, name, point,
+                  axis, wall, part  (a gauge's point is its horizontal position: [x] in 2D, [x, y] in 3D;
+                  a wall_force's part = [lo, hi] is a box of the wall's particles)
 
 [tank] may be left out when [[wall]] entries bound the water; mesh files are
 found relative to the TOML file.
@@ -28,7 +30,7 @@ import os
 import tomllib
 
 from ..errors import ParameterError
-from .base import GRAVITY, Case, Parameter
+from .base import GRAVITY, GUARD_KEYS, Case, Parameter, check_guard_settings
 
 #: the [fluid] keys, their defaults (those of seawall.cases.tanks.COMMON) and help
 FLUID_KEYS = {
@@ -39,12 +41,13 @@ FLUID_KEYS = {
     "h_factor": Parameter(1.3, "smoothing length h / dx"),
     "cfl": Parameter(0.2, "CFL number"),
 }
-CASE_KEYS = {"name", "description", "t_end", "output_every", "probe_every", "boundary"}
+CASE_KEYS = {"name", "description", "t_end", "output_every", "probe_every", "boundary",
+             "unstable_fraction", "unstable_window"}
 TANK_KEYS = {"lo", "hi", "open_top"}
 WATER_KEYS = {"lo", "hi", "pressure", "file"}
 WALL_KEYS = {"file", "name", "fluid"}
-PROBE_KINDS = ("wall_pressure", "pressure", "front", "kinetic_energy", "mass", "wall_force")
-PROBE_KEYS = {"kind", "name", "point", "axis", "direction", "wall"}
+PROBE_KINDS = ("wall_pressure", "pressure", "front", "kinetic_energy", "mass", "wall_force", "gauge")
+PROBE_KEYS = {"kind", "name", "point", "axis", "direction", "wall", "part"}
 KINDS = {"float": float, "int": int, "str": str, "bool": bool}
 
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
@@ -223,7 +226,7 @@ def _check_structure(data):
     for k, p in enumerate(_array_of_tables(data, "probe", PROBE_KEYS), start=1):
         if p.get("kind") not in PROBE_KINDS:
             raise _Bad(f"[[probe]] number {k}: kind must be one of {', '.join(PROBE_KINDS)}, got {p.get('kind')!r}")
-        if p["kind"] in ("wall_pressure", "pressure") and "point" not in p:
+        if p["kind"] in ("wall_pressure", "pressure", "gauge") and "point" not in p:
             raise _Bad(f"[[probe]] number {k} ({p['kind']}) needs a point")
     if not isinstance(tank.get("open_top", True), bool):
         raise _Bad(f"[tank] open_top must be true or false, got {tank['open_top']!r}")
@@ -257,6 +260,11 @@ def case_from_toml(path):
                 if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
                     raise _Bad(f"[case] {key} must be a number > 0, got {value!r}")
                 numbers[key] = float(value)
+        guards = {k: meta[k] for k in GUARD_KEYS if k in meta}
+        try:
+            check_guard_settings(guards)
+        except ParameterError as exc:
+            raise _Bad(f"[case] {exc}") from None
         boundary = meta.get("boundary", "adami")
         from ..boundary.registry import BOUNDARIES
 
@@ -278,7 +286,15 @@ def case_from_toml(path):
 
     return Case(name=name, description=str(meta.get("description", f"water in a tank ({os.path.basename(path)})")),
                 builder=builder, parameters=parameters, dimension=dim, default_boundary=boundary,
-                **numbers)
+                guards={k: float(v) for k, v in guards.items()}, **numbers)
+
+
+def _horizontal(geo, where, value, dim):
+    """A gauge's point: its horizontal coordinates, [x] in 2D, [x, y] in 3D (gravity along the last axis)."""
+    if not isinstance(value, list) or len(value) != dim - 1:
+        raise _Bad(f"{where} of a gauge is its horizontal position: a list of {dim - 1} number(s) "
+                   f"({'[x]' if dim == 2 else '[x, y]'}), got {value!r}")
+    return [geo.number(f"{where}[{k}]", v) for k, v in enumerate(value)]
 
 
 def _mesh_path(folder, name):
@@ -391,9 +407,12 @@ def _build(data, dim, params, wall_model, threads, folder="."):
         if name in names:
             raise _Bad(f"[[probe]] number {k}: a second probe named {name!r}")
         names.add(name)
-        axis = int(geo.number(f"[[probe]] number {k} axis", p.get("axis", 0)))
-        if not 0 <= axis < dim:
-            raise _Bad(f"[[probe]] number {k}: axis must be 0 .. {dim - 1}, got {axis}")
+        axis = geo.number(f"[[probe]] number {k} axis", p.get("axis", 0))
+        if not (axis == int(axis) and 0 <= axis < dim):   # 0.5 is not an axis: no silent rounding
+            raise _Bad(f"[[probe]] number {k}: axis must be 0 .. {dim - 1}, got {p.get('axis')!r}")
+        axis = int(axis)
+        if "part" in p and kind != "wall_force":
+            raise _Bad(f"[[probe]] number {k}: part is a key of wall_force probes, not of {kind}")
         if kind == "wall_pressure":
             sim.add(probes.WallPressure(name, geo.point(f"[[probe]] number {k} point", p["point"], dim)))
         elif kind == "pressure":
@@ -404,9 +423,25 @@ def _build(data, dim, params, wall_model, threads, folder="."):
             sim.add(probes.KineticEnergy(name))
         elif kind == "mass":
             sim.add(probes.TotalMass(name))
+        elif kind == "gauge":
+            try:
+                sim.add(probes.FreeSurfaceGauge(name, _horizontal(geo, f"[[probe]] number {k} point", p["point"],
+                                                                  dim)))
+            except ParameterError as exc:
+                raise _Bad(f"[[probe]] number {k}: {exc}") from None
         else:
+            # without wall = NAME: the first wall, the tank when there is one
             wall = p.get("wall", wall_names[0])
             if wall not in wall_names:
                 raise _Bad(f"[[probe]] number {k}: no wall named {wall!r}; the walls: {', '.join(wall_names)}")
-            sim.add(probes.WallForce(name, wall, axis=axis))
+            part = None
+            if "part" in p:
+                box = p["part"]
+                if not isinstance(box, list) or len(box) != 2:
+                    raise _Bad(f"[[probe]] number {k} part must be a box [[lo], [hi]] (two points), got {box!r}")
+                part = [geo.point(f"[[probe]] number {k} part[{j}]", c, dim) for j, c in enumerate(box)]
+            try:
+                sim.add(probes.WallForce(name, wall, axis=axis, part=part))
+            except ParameterError as exc:
+                raise _Bad(f"[[probe]] number {k}: {exc}") from None
     return sim
