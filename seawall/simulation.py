@@ -39,7 +39,7 @@ from .jit import PARTICLE_LOOPS, apply_threads, threads_for, use_threads
 from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
-from .probes import PressureSensor
+from .probes import Discharge, PressureSensor
 from .runner import RunResult, Runner, _progress_bar  # noqa: F401  (RunResult, _progress_bar: their old home)
 from .pair_list import PairList, check_skin
 from .views import cell_view, fluid_rates_view, fluid_view, pair_view
@@ -876,6 +876,8 @@ class Simulation(Runner):
                                if self.fluid.edac is not None else {"model": "eos"}),
             **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
                if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
+            **({"discharge_sections": {p.name: p.describe() for p in self.probes if isinstance(p, Discharge)}}
+               if any(isinstance(p, Discharge) for p in self.probes) else {}),
             "hull": _hull_summary(self.hull_box()),
             # the fluid loop's pairs: a kept list and how often it was rebuilt, or the cell walk
             "pair_list": self.pair_list.describe() if self.pair_list is not None else {"skin": 0.0},
