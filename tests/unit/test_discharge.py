@@ -175,7 +175,8 @@ def test_dam_break_discharge_is_the_volume_moved_beyond_the_section(tmp_path):
     assert times.size == 7 and columns["volume"][0] == 0.0
     common = np.isin(result.times, times)
     assert common.sum() >= 4
-    assert np.allclose(columns["volume"][np.isin(times, result.times)], result["mid"][common], rtol=0, atol=1e-13 * total)
+    assert np.allclose(columns["volume"][np.isin(times, result.times)], result["mid"][common],
+                       rtol=0, atol=1e-13 * total)
 
 
 def test_restart_continues_the_count_bit_for_bit(tmp_path):
@@ -192,3 +193,101 @@ def test_restart_continues_the_count_bit_for_bit(tmp_path):
     for name in ("mid", "mid_rate"):
         assert np.array_equal(result[name], ref[name], equal_nan=True), name
 
+
+
+# ---------------------------------------------------------------------------- command line and case files
+def run_cli(args, capsys):
+    from seawall.cli import main
+
+    code = main(args)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+SMALL_TANK = ["--dx", "0.05", "--set", "length=0.5", "--set", "depth=0.2", "--set", "height=0.3"]
+
+
+def test_cli_discharge_columns_units_and_the_check_from_frames(tmp_path, capsys):
+    import json
+
+    from seawall.io.csvout import read_probes_csv
+
+    out_dir = tmp_path / "run"
+    code, _, _ = run_cli(["run", "hydrostatic", *SMALL_TANK, "--t-end", "0.02", "--out", str(out_dir),
+                          "--no-progress", "--discharge", "0.25,-1:0.25,1", "--discharge", "0.1,0:0.1,0.3:mine"],
+                         capsys)
+    assert code == 0
+    t, cols = read_probes_csv(str(out_dir / "probes.csv"))
+    assert {"discharge:1", "discharge:1_rate", "mine", "mine_rate"} <= set(cols)
+    summary = json.loads((out_dir / "summary.json").read_text())
+    assert summary["probe_units"]["discharge:1"] == "m^2" and summary["probe_units"]["mine_rate"] == "m^2/s"
+    assert summary["discharge_sections"]["mine"]["start"] == [0.1, 0.0]
+    code, out, _ = run_cli(["discharge", str(out_dir), "--section", "0.25,-1:0.25,1"], capsys)
+    assert code == 0 and (out_dir / "discharge.csv").exists()
+    header = (out_dir / "discharge.csv").read_text().splitlines()[0]
+    assert header == "time,volume,fluid_beyond,removed_beyond"
+
+
+@pytest.mark.parametrize("args, word", [
+    (["run", "hydrostatic", "--discharge", "0.1,0"], "--discharge must look like x0,y0:x1,y1[:NAME]"),
+    (["run", "hydrostatic", "--discharge", "0.1,0:0.1"], "start and end need 2 finite coordinates"),
+    (["run", "hydrostatic", "--discharge", "0.1,0:a,1"], "--discharge must look like"),
+    (["run", "hydrostatic", "--discharge", "0.1,0:0.1,1:a:b"], "--discharge must look like"),
+    (["run", "hydrostatic", "--discharge", "0.1,0:0.1,0"], "--discharge '0.1,0:0.1,0': start and end are the same"),
+    (["run", "hydrostatic", "--discharge", "0,0,0:0,1,0"], "--discharge '0,0,0:0,1,0': start and end need 2 finite"),
+    (["run", "hydrostatic", "--discharge", "0,0:0,nan"], "need 2 finite"),
+    (["run", "hydrostatic", "--discharge", "0,0:0,1:"], "NAME must be non-empty"),
+    (["run", "hydrostatic", "--discharge", "0,0:0,1:P0"], "--discharge: two probes are named 'P0'"),
+    (["discharge", "RUN", "--section", "0,0"], "--section must look like x0,y0:x1,y1,"),
+    (["discharge", "RUN", "--section", "0,0:0,1"], "not found"),
+])
+def test_cli_bad_values_give_one_line_naming_the_option(args, word, tmp_path, capsys):
+    args = [str(tmp_path / "none") if a == "RUN" else a for a in args]
+    if args[0] == "run":
+        args = args[:2] + SMALL_TANK + args[2:] + ["--out", str(tmp_path / "out"), "--no-progress"]
+    code, _, err = run_cli(args, capsys)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0], lines
+    assert not (tmp_path / "out").exists()
+
+
+TOML = ('[parameters]\ndx = {default = 0.05, unit = "m"}\nL = 1.0\n[tank]\nlo = [0, 0]\nhi = ["L", 0.5]\n'
+        '[[water]]\nlo = [0, 0]\nhi = [0.3, 0.2]\n')
+
+
+def test_toml_discharge_probes(tmp_path):
+    from seawall.cases import case_by_name
+
+    path = tmp_path / "over.toml"
+    path.write_text(TOML + '[[probe]]\nkind = "discharge"\nname = "mid"\nstart = ["L / 2", 0]\nend = ["L / 2", 1]\n'
+                    '[[probe]]\nkind = "discharge"\ncrest = "tank"\ndirection = -1\n')
+    sim = case_by_name(str(path)).build(boundary="adami")
+    assert [p.name for p in sim.probes] == ["mid", "mid_rate", "discharge_2", "discharge_2_rate"]
+    assert sim.probes[0].start.tolist() == [0.5, 0.0] and sim.probes[0].end.tolist() == [0.5, 1.0]
+    crest = sim.probes[2]
+    assert crest.crest == "tank" and crest.direction == -1 and crest.start[0] < 0 < crest.start[1] - crest.end[1]
+
+
+@pytest.mark.parametrize("probe, problem", [
+    ('kind = "discharge"\n', "[[probe]] number 1 (discharge) needs start and end (points), or crest"),
+    ('kind = "discharge"\nstart = [0.5, 0]\n', "needs start and end"),
+    ('kind = "discharge"\nstart = [0.5]\nend = [0.5, 1]\n', "[[probe]] number 1 start must be a list of 2 or 3"),
+    ('kind = "discharge"\nstart = [0.5, 0, 0]\nend = [0.5, 1, 0]\n', "[[probe]] number 1 start has 3 coordinates"),
+    ('kind = "discharge"\nstart = ["2 * nope", 0]\nend = [0.5, 1]\n', "unknown name 'nope'"),
+    ('kind = "discharge"\nstart = [0.5, 0]\nend = ["L / 2", 0]\n', "start and end are the same point"),
+    ('kind = "discharge"\nstart = [0.5, 0]\nend = [0.5, 1]\ndirection = -1\n', "direction goes with crest"),
+    ('kind = "discharge"\ncrest = "wall"\n', "crest names no wall, got 'wall'"),
+    ('kind = "discharge"\ncrest = 3\n', "crest must be a wall's name"),
+    ('kind = "discharge"\ncrest = "tank"\nstart = [0.5, 0]\n', "give start and end, or crest, not both"),
+    ('kind = "discharge"\ncrest = "tank"\ndirection = 2\n', "direction must be 1 or -1"),
+    ('kind = "discharge"\nstart = [0.5, 0]\nend = [0.5, 1]\nthrough = 1\n', "has no key 'through'"),
+])
+def test_toml_bad_discharge_values_give_one_line_naming_the_key(tmp_path, capsys, probe, problem):
+    path = tmp_path / "bad.toml"
+    path.write_text(TOML + "[[probe]]\n" + probe)
+    code, _, err = run_cli(["run", str(path), "--out", str(tmp_path / "out"), "--no-progress"], capsys)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and str(path) in lines[0] and problem in lines[0], lines
+    assert not (tmp_path / "out").exists()
