@@ -406,6 +406,8 @@ class Discharge(Probe):
         Column name (the rate is ``name + "_rate"``).
     start, end : sequence of float
         The section's end points (x, y) [m].
+    crest, direction
+        Instead of start and end: the section over the crest of this wall (:meth:`over_crest`).
     """
 
     unit = "m^3"

@@ -170,7 +170,11 @@ class Runner:
         """
         for item in items:
             if isinstance(item, Probe):
-                for probe in (item, *item.companions()):
+                group = (item, *item.companions())
+                for probe in group[1:]:     # refused before the probe itself is added
+                    if any(p.name == probe.name for p in self.probes):
+                        raise ParameterError(f"two probes are named {probe.name!r}")
+                for probe in group:
                     self._add_probe(probe)
             elif isinstance(item, self.OUTPUT_TYPES):
                 self.outputs.append(self._adopt_output(item))

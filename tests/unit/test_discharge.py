@@ -291,3 +291,11 @@ def test_toml_bad_discharge_values_give_one_line_naming_the_key(tmp_path, capsys
     lines = err.strip().splitlines()
     assert len(lines) == 1 and str(path) in lines[0] and problem in lines[0], lines
     assert not (tmp_path / "out").exists()
+
+
+def test_a_rate_column_name_taken_refuses_the_probe_whole():
+    sim = free_jet()
+    sim.add(sw.probes.TotalMass("q_rate"))
+    with pytest.raises(ParameterError, match="two probes are named 'q_rate'"):
+        sim.add(Discharge("q", (0.25, -0.05), (0.25, 0.2)))
+    assert [p.name for p in sim.probes] == ["q_rate"] and not sim._step_probes
