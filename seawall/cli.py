@@ -1,4 +1,5 @@
-"""Command line: ``seawall cases | boundaries | run | compare | sweep | validate | plot | bench | geometry``.
+"""Command line: ``seawall cases | boundaries | run | compare | sweep | validate | plot | forces | sample |
+discharge | bench | geometry``.
 
 The output files of ``run`` (probes.csv, summary.json, the VTU/PVD series)
 and the JSON line of ``bench`` are a contract other tools rely on: columns
@@ -148,6 +149,11 @@ def build_parser():
                           "(x in 2D, x,y in 3D; gravity gives the vertical), as `seawall sample --gauge` reads "
                           "it, the bed's elevation where dry; column gauge:<k> (gauge:NAME) in probes.csv "
                           "(repeatable)")
+    run.add_argument("--discharge", action="append", metavar="x0,y0:x1,y1[:NAME]",
+                     help="fluid volume that has crossed the section from (x0, y0) to (x1, y1), counted every step "
+                          "(positive towards the side of end - start turned clockwise: +x for a section drawn "
+                          "upwards): columns NAME [m^2 per metre] and NAME_rate [m^2/s] in probes.csv (default "
+                          "NAME discharge:<k>; 2D runs; repeatable)")
     run.add_argument("--wall-force", action="append", metavar="NAME",
                      help="the fluid's force on the wall system NAME: columns wall_force:NAME:fx, :fy[, :fz] in "
                           "probes.csv [N, per metre of depth in 2D] (repeatable)")
@@ -237,6 +243,14 @@ def build_parser():
                         help="comma-separated: pressure (gauge), density, u, v, w, speed (default pressure,u,v)")
     sample.add_argument("--out", help="CSV path of the points and lines (default RUN_DIR/sample.csv)")
     sample.add_argument("--sensors-out", help="CSV path of the sensors and gauges (default RUN_DIR/sensors.csv)")
+
+    discharge = sub.add_parser("discharge", help="fluid volume that has passed a section at every output time of a "
+                               "run (from its VTU files and escaped.csv) -> discharge.csv; the check of --discharge")
+    discharge.add_argument("run_dir")
+    discharge.add_argument("--section", required=True, metavar="x0,y0:x1,y1",
+                           help="the section, positive as for `seawall run --discharge`; exact only for a section "
+                                "spanning the whole fluid depth")
+    discharge.add_argument("--out", help="CSV path (default RUN_DIR/discharge.csv)")
 
     geometry = sub.add_parser("geometry", help="wall particles and normals of an STL/OBJ file -> VTU, to "
                               "inspect before a run (needs seawall[geometry])")
@@ -465,6 +479,8 @@ def cmd_run(args):
         sim.add(PressureSensor(f"sensor:{k}", point, diameter))
     for k, text in enumerate(args.gauge or [], start=1):
         _add_gauge(sim, case, k, text)
+    for k, text in enumerate(args.discharge or [], start=1):
+        _add_discharge(sim, case, k, text)
     for name in args.wall_force or []:
         _add_wall_force(sim, case, name)
     if args.diagnostics:
@@ -625,6 +641,44 @@ def _add_wall_force(sim, case, name):
         sim.add(WallForce(f"wall_force:{name}:{component}", name, axis=axis))
 
 
+def parse_section(option, text, name=False):
+    """``x0,y0:x1,y1`` (with ``name``: ``[:NAME]`` after it) as given to ``option``: (start, end, NAME or None)."""
+    from .errors import ParameterError
+
+    parts = str(text).split(":")
+    form = "x0,y0:x1,y1" + ("[:NAME]" if name else "")
+    try:
+        if len(parts) not in ((2, 3) if name else (2,)):
+            raise ValueError
+        start, end = ([float(c) for c in part.split(",")] for part in parts[:2])
+    except ValueError:
+        raise ParameterError(f"{option} must look like {form}, got {text!r}") from None
+    if len(start) != 2 or len(end) != 2 or not all(math.isfinite(c) for c in start + end):
+        raise ParameterError(f"{option} {text!r}: start and end need 2 finite coordinates each (sections are 2D)")
+    if start == end:
+        raise ParameterError(f"{option} {text!r}: start and end are the same point")
+    label = parts[2] if len(parts) == 3 else None
+    if label is not None and (not label or "," in label or '"' in label):
+        raise ParameterError(f"{option} {text!r}: NAME must be non-empty, without commas or quotes")
+    return start, end, label
+
+
+def _add_discharge(sim, case, k, text):
+    """--discharge x0,y0:x1,y1[:NAME]: a Discharge probe (columns NAME and NAME_rate)."""
+    from .errors import ParameterError
+    from .probes import Discharge
+
+    start, end, name = parse_section("--discharge", text, name=True)
+    if not hasattr(sim, "fluid"):
+        raise ParameterError(f"--discharge: case {case.name!r} has no fluid to count")
+    if sim.dim != 2:
+        raise ParameterError(f"--discharge: sections are 2D segments, case {case.name!r} is {sim.dim}D")
+    try:
+        sim.add(Discharge(name or f"discharge:{k}", start, end))
+    except ParameterError as exc:
+        raise ParameterError(f"--discharge: {exc}") from None
+
+
 def _partial_result(sim):
     """Summary and probe series of a run that stopped early (blow-up, full disk, signal)."""
     return sim.result(sim.summary_so_far())
@@ -781,6 +835,27 @@ def cmd_forces(args):
             print(f"wall {name}: {len(t)} frames, largest |F| = {np.linalg.norm(f[k]):.5g} at t = {t[k]:.4g} s "
                   f"({', '.join(f'{v:.5g}' for v in f[k])}) {unit}; impulse over "
                   f"{t[0]:.4g}-{t[-1]:.4g} s: ({', '.join(f'{v:.5g}' for v in impulse(t, f))}) {unit} s")
+    print(out)
+    return 0
+
+
+def cmd_discharge(args):
+    from .postprocess import discharge_series, write_discharge_csv
+
+    from .errors import ParameterError
+
+    start, end, _ = parse_section("--section", args.section)
+    if not os.path.isdir(args.run_dir):
+        raise ParameterError(f"run directory {args.run_dir} not found")
+    try:
+        times, columns = discharge_series(args.run_dir, start, end)
+    except FileNotFoundError as exc:
+        raise ParameterError(str(exc)) from None
+    out = args.out or os.path.join(args.run_dir, "discharge.csv")
+    write_discharge_csv(out, times, columns)
+    if len(times):
+        print(f"{len(times)} frames, {times[0]:.4g}-{times[-1]:.4g} s: volume passed {columns['volume'][-1]:.6g} m^2 "
+              f"(per metre) at the last frame")
     print(out)
     return 0
 
@@ -949,8 +1024,8 @@ def main(argv=None):
     args.running = {}   # the simulation of `run`, for the signal handler
     handlers = {"cases": cmd_cases, "boundaries": cmd_boundaries, "run": cmd_run, "bench": cmd_bench,
                 "plot": cmd_plot, "compare": cmd_compare, "sweep": cmd_sweep, "new-case": cmd_new_case,
-                "forces": cmd_forces, "sample": cmd_sample, "geometry": cmd_geometry,
-                "validate": cmd_validate}
+                "forces": cmd_forces, "sample": cmd_sample, "discharge": cmd_discharge,
+                "geometry": cmd_geometry, "validate": cmd_validate}
     try:
         if args.command == "run":
             with stop_on_signals(lambda: args.running.get("sim")):

@@ -84,6 +84,8 @@ class VTK:
                 "wall_model": what, "time": sim.time, "step": sim.step, "h": sim.h,
                 "kernel": type(getattr(sim, "kernel", None)).__name__, "dimension": sim.dim,
                 "dx": sim.fluid.spacing, "pressure_convention": PRESSURE_CONVENTION,
+                # the volume m / rho0 of `seawall discharge` needs it
+                "rho0": float(sim.physics.rho0),
                 # the sensors of `seawall sample` extrapolate the pressure to the wall with it
                 "gravity": None if gravity is None else [float(g) for g in gravity]}
 

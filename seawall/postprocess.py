@@ -19,6 +19,11 @@ Both read only the files ``seawall run`` wrote, so they work after the run
 * :func:`gauge_series` -- the free-surface elevation above given horizontal
   positions (wave gauges) from stored frames; the bed's elevation where dry (the
   read-out of the run-time ``FreeSurfaceGauge``, ``--gauge``).
+  positions (wave gauges) from stored frames.
+* :func:`discharge_series` -- the fluid volume that has passed a section, from
+  stored frames and ``escaped.csv`` (``seawall discharge``): a check of the
+  run-time :class:`~seawall.probes.Discharge` probe, exact only for a section
+  spanning the whole fluid depth.
 """
 
 import os
@@ -364,4 +369,105 @@ def write_sample_csv(path, times, points, result):
             for m, p in enumerate(points):
                 fh.write(",".join([f"{t:.9g}", f"{s[m]:.9g}", *(f"{c:.9g}" for c in p),
                                    *(f"{result[q][f, m]:.9g}" for q in names)]) + "\n")
+    return path
+
+
+def _read_escaped(run_dir, dim):
+    """(times (n,), ids (n,), positions (n, dim)) of the removed particles in RUN_DIR/escaped.csv."""
+    import csv
+
+    path = os.path.join(run_dir, "escaped.csv")
+    if not os.path.exists(path):
+        raise ParameterError(f"{path} not found: the removed particles are needed (was the run stopped before "
+                             f"writing it?)")
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    coords = ["x", "y", "z"][:dim]
+    header = rows[0] if rows else []
+    if not all(c in header for c in ["time", "id", *coords]):
+        raise ParameterError(f"{path}: expected the columns time, id, {', '.join(coords)}; got {header}")
+    cols = [header.index(c) for c in coords]
+    body = rows[1:]
+    times = np.array([float(r[header.index("time")]) for r in body])
+    ids = np.array([int(r[header.index("id")]) for r in body], dtype=np.int64)
+    x = np.array([[float(r[c]) for c in cols] for r in body]).reshape(len(body), dim)
+    return times, ids, x
+
+
+def _positive_side(x, start, end):
+    """True where a point is on the positive side of the line through ``start``, ``end`` (the probe's test)."""
+    (x0, y0), (x1, y1) = start, end
+    return (x[:, 0] - x0) * (y1 - y0) - (x[:, 1] - y0) * (x1 - x0) > 0.0
+
+
+def discharge_series(run_dir, start, end):
+    """Fluid volume that has passed a section since the first stored frame, per frame [m^2 per metre in 2D].
+
+    The check of the run-time :class:`seawall.probes.Discharge` probe from the files of a
+    run: V(t) = (volume on the section's positive side now) + (volume removed on that side
+    since the first frame) - (volume on that side in the first frame), with volume m / rho0
+    (rho0 from the frames' metadata) and the positive side as the probe takes it (end - start
+    rotated clockwise by 90 degrees). The side is that of the section's whole line, so V(t)
+    equals the probe's count only for a section that spans the whole fluid depth (no particle
+    passes beside it); the probe, which counts every step within the segment, is the primary
+    measure. The removed particles are read from ``escaped.csv`` (positions at removal, with 9
+    significant digits; masses from the last frame holding them, or the common mass of the
+    fluid if none did). Frames written in single precision (``--vtk-float32``) agree to that
+    precision only. Returns (frame times (F,), {"volume", "fluid_beyond", "removed_beyond": (F,)}).
+    """
+    start = np.asarray(start, dtype=np.float64)
+    end = np.asarray(end, dtype=np.float64)
+    if start.shape != (2,) or end.shape != (2,) or np.array_equal(start, end):
+        raise ParameterError(f"--section must be two different 2D points, got {start.tolist()} and {end.tolist()}")
+    frames = list(_fluid_frames(run_dir, None))
+    if frames[0][2].shape[1] != 2:
+        raise ParameterError(f"{run_dir}: the discharge check takes 2D runs, this one is {frames[0][2].shape[1]}D")
+    esc_t, esc_id, esc_x = _read_escaped(run_dir, 2)
+    esc_beyond = _positive_side(esc_x, start, end)
+    known = np.full(0, np.nan)        # mass by particle id, from the frames read so far
+    times, fluid, removed = [], [], []
+    t0 = frames[0][0]
+    counted = np.zeros(esc_t.size, dtype=bool)
+    removed_mass = 0.0
+    rho0 = None
+    for t, path, x, data, meta, _, _ in frames:
+        if meta.get("rho0") is None:
+            raise ParameterError(f"{path} does not record rho0, which the discharge check needs: it was written "
+                                 f"before seawall stored it in the VTU files; run the case again")
+        rho0 = float(meta["rho0"])
+        m = data["mass"].astype(np.float64)
+        ids = data["id"].astype(np.int64)
+        # removals after the first frame up to this one (times in escaped.csv have 9 digits)
+        due = (~counted & (esc_t > t0 + 1e-8 * abs(t0)) & (esc_t <= t + 1e-8 * abs(t)))
+        for k in np.flatnonzero(due & esc_beyond):
+            pid = esc_id[k]
+            mass = known[pid] if pid < known.size else np.nan
+            if mass != mass:
+                if not (m.size and m.min() == m.max()):
+                    raise ParameterError(f"particle id {pid}, removed at t = {esc_t[k]:g} s, is in no frame before; "
+                                         f"its mass is unknown")
+                mass = m[0]
+            removed_mass += mass
+        counted |= due
+        if ids.size:
+            if ids.max() >= known.size:
+                known = np.concatenate([known, np.full(ids.max() + 1 - known.size, np.nan)])
+            known[ids] = m
+        times.append(t)
+        fluid.append(m[_positive_side(x, start, end)].sum() / rho0)
+        removed.append(removed_mass / rho0)
+    fluid = np.array(fluid)
+    removed = np.array(removed)
+    return np.array(times), {"volume": fluid + removed - fluid[0], "fluid_beyond": fluid, "removed_beyond": removed}
+
+
+def write_discharge_csv(path, times, columns):
+    """discharge.csv: time, volume (passed since the first frame), fluid_beyond, removed_beyond [m^2 in 2D]."""
+    from .io.vtk import _atomic_write
+
+    names = list(columns)
+    with _atomic_write(path, "w") as fh:
+        fh.write(",".join(["time", *names]) + "\n")
+        for f, t in enumerate(times):
+            fh.write(",".join([f"{t:.17g}", *(f"{columns[n][f]:.17g}" for n in names)]) + "\n")
     return path

@@ -4,7 +4,11 @@ The runner owns everything that is about *running* rather than physics: the
 clock (time, step, next time step), probes and their sampling schedule, the
 probe CSV, outputs (VTU/PVD, checkpoints, line samplers), the progress bar,
 signals (stop after a whole step), output errors, ``run()``, ``run_steps()``,
-the summary timings and the checkpoint's clock and probe history. A
+the summary timings and the checkpoint's clock and probe history. Probes that
+count events of every step (:class:`~seawall.probes.Discharge`) define
+``before_step(sim)`` and ``after_step(sim)``: the runner calls them around
+``_integrate``, after ``_maintain`` and before the removals of
+``_check_health``; their ``state()`` / ``set_state()`` go into checkpoints. A
 simulation type subclasses :class:`Runner` and implements small hooks:
 
 * ``_initialise()`` -- make the current state ready to step (rates, ``next_dt``);
@@ -75,6 +79,8 @@ class Runner:
         self.step = 0
         self.next_dt = None
         self.probes = []
+        #: probes called around every step's integration (before_step / after_step)
+        self._step_probes = []
         self.outputs = []
         self.probe_times = []
         self.probe_values = []
@@ -164,14 +170,12 @@ class Runner:
         """
         for item in items:
             if isinstance(item, Probe):
-                point = getattr(item, "point", None)
-                if point is not None and np.size(point) != self.dim:
-                    raise ParameterError(f"probe {item.name!r}: point {np.asarray(point).tolist()} has "
-                                         f"{np.size(point)} coordinates, the run is {self.dim}D")
-                if any(p.name == item.name for p in self.probes):
-                    raise ParameterError(f"two probes are named {item.name!r}")
-                self._register_probe(item)
-                self.probes.append(item)
+                group = (item, *item.companions())
+                for probe in group[1:]:     # refused before the probe itself is added
+                    if any(p.name == probe.name for p in self.probes):
+                        raise ParameterError(f"two probes are named {probe.name!r}")
+                for probe in group:
+                    self._add_probe(probe)
             elif isinstance(item, self.OUTPUT_TYPES):
                 self.outputs.append(self._adopt_output(item))
             else:
@@ -181,6 +185,18 @@ class Runner:
         if every is not None:
             self.probe_every = require_positive("every", every)
         return self
+
+    def _add_probe(self, item):
+        point = getattr(item, "point", None)
+        if point is not None and np.size(point) != self.dim:
+            raise ParameterError(f"probe {item.name!r}: point {np.asarray(point).tolist()} has "
+                                 f"{np.size(point)} coordinates, the run is {self.dim}D")
+        if any(p.name == item.name for p in self.probes):
+            raise ParameterError(f"two probes are named {item.name!r}")
+        self._register_probe(item)
+        self.probes.append(item)
+        if callable(getattr(item, "after_step", None)):
+            self._step_probes.append(item)
 
     def accepts(self, output_type):
         """Whether :meth:`add` takes outputs of this type (the CLI asks before preparing a run directory)."""
@@ -203,7 +219,11 @@ class Runner:
     # ------------------------------------------------------------------ stepping
     def _one_step(self, dt):
         self._maintain()
+        for probe in self._step_probes:
+            probe.before_step(self)
         self._integrate(dt)
+        for probe in self._step_probes:
+            probe.after_step(self)
         self.time += dt
         self.step += 1
         self._after_step(dt)
@@ -405,6 +425,9 @@ class Runner:
                  "next_probe": self._next_probe, "probe_every": self.probe_every,
                  "probe_names": [p.name for p in self.probes], "dim": self.dim, "metadata": self.metadata,
                  **self._state_attrs()}
+        states = {p.name: p.state() for p in self.probes if callable(getattr(p, "state", None))}
+        if states:
+            attrs["probe_state"] = states
         save_checkpoint(path, arrays, attrs)
 
     def restart(self, path: str | os.PathLike) -> None:
@@ -429,6 +452,12 @@ class Runner:
         names = list(attrs.get("probe_names") or [])
         if names != [p.name for p in self.probes]:
             raise ParameterError(f"checkpoint {path} has probes {names}, this simulation {[p.name for p in self.probes]}")
+        states = attrs.get("probe_state") or {}
+        for p in self.probes:
+            if callable(getattr(p, "set_state", None)):
+                if p.name not in states:
+                    raise ParameterError(f"checkpoint {path} lacks the state of probe {p.name!r}")
+                p.set_state(states[p.name])
         self.probe_times = arrays["probes"]["times"].tolist()
         self.probe_values = arrays["probes"]["values"].tolist()
         return self

@@ -39,7 +39,7 @@ from .jit import PARTICLE_LOOPS, apply_threads, threads_for, use_threads
 from .kernels import CubicSpline, Kernel, kernel_shape
 from .neighbors import CellGrid, neighbour_pairs
 from .output import VTK, Checkpoint
-from .probes import PressureSensor
+from .probes import Discharge, PressureSensor
 from .runner import RunResult, Runner, _progress_bar  # noqa: F401  (RunResult, _progress_bar: their old home)
 from .pair_list import PairList, check_skin
 from .views import cell_view, fluid_rates_view, fluid_view, pair_view
@@ -892,6 +892,8 @@ class Simulation(Runner):
                                if self.fluid.edac is not None else {"model": "eos"}),
             **({"sensors": {p.name: p.describe() for p in self.probes if isinstance(p, PressureSensor)}}
                if any(isinstance(p, PressureSensor) for p in self.probes) else {}),
+            **({"discharge_sections": {p.name: p.describe() for p in self.probes if isinstance(p, Discharge)}}
+               if any(isinstance(p, Discharge) for p in self.probes) else {}),
             "hull": _hull_summary(self.hull_box()),
             # the budget this run stopped by (or would have): --set unstable_fraction / unstable_window
             "damage_budget": {"unstable_fraction": self.unstable_fraction, "unstable_window": self.unstable_window},

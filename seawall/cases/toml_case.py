@@ -12,6 +12,8 @@ Layout (every table is described in docs/case-files.md)::
     [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force | gauge, name, point,
                   axis, wall, part  (a gauge's point is its horizontal position: [x] in 2D, [x, y] in 3D;
                   a wall_force's part = [lo, hi] is a box of the wall's particles)
+    [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force, name, point, axis,
+                  wall; kind = discharge with start, end | crest, direction
 
 [tank] may be left out when [[wall]] entries bound the water; mesh files are
 found relative to the TOML file.
@@ -49,6 +51,9 @@ WALL_KEYS = {"file", "name", "fluid"}
 PROBE_KINDS = ("wall_pressure", "pressure", "front", "kinetic_energy", "mass", "wall_force", "gauge")
 PROBE_KEYS = {"kind", "name", "point", "axis", "direction", "wall", "part"}
 KINDS = {"float": float, "int": int, "str": str, "bool": bool}
+#: the discharge section (seawall.probes.Discharge): points start and end, or crest = a wall's name
+PROBE_KINDS += ("discharge",)
+PROBE_KEYS |= {"start", "end", "crest"}
 
 _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
         ast.Pow: operator.pow, ast.USub: operator.neg, ast.UAdd: operator.pos}
@@ -228,9 +233,46 @@ def _check_structure(data):
             raise _Bad(f"[[probe]] number {k}: kind must be one of {', '.join(PROBE_KINDS)}, got {p.get('kind')!r}")
         if p["kind"] in ("wall_pressure", "pressure", "gauge") and "point" not in p:
             raise _Bad(f"[[probe]] number {k} ({p['kind']}) needs a point")
+        if p["kind"] == "discharge":
+            _check_discharge(k, p)
     if not isinstance(tank.get("open_top", True), bool):
         raise _Bad(f"[tank] open_top must be true or false, got {tank['open_top']!r}")
     return case
+
+
+def _check_discharge(k, p):
+    """A discharge probe has start and end, or a crest (and direction only with a crest)."""
+    where = f"[[probe]] number {k} (discharge)"
+    if "crest" in p:
+        if "start" in p or "end" in p:
+            raise _Bad(f"{where}: give start and end, or crest, not both")
+        if not isinstance(p["crest"], str) or not p["crest"]:
+            raise _Bad(f"{where}: crest must be a wall's name, got {p['crest']!r}")
+    elif "start" not in p or "end" not in p:
+        raise _Bad(f"{where} needs start and end (points), or crest = a wall's name")
+    elif "direction" in p:
+        raise _Bad(f"{where}: direction goes with crest; with start and end the order of the points gives it")
+
+
+def _discharge_probe(geo, k, p, name, dim, wall_names):
+    """The Discharge probe of a [[probe]] kind = "discharge" (checked by _check_discharge)."""
+    from ..probes import Discharge
+
+    where = f"[[probe]] number {k}"
+    if dim != 2:
+        raise _Bad(f"{where} (discharge): sections are 2D segments, the tank is {dim}D")
+    try:
+        if "crest" not in p:
+            return Discharge(name, geo.point(f"{where} start", p["start"], dim),
+                             geo.point(f"{where} end", p["end"], dim))
+        if p["crest"] not in wall_names:
+            raise _Bad(f"{where}: crest names no wall, got {p['crest']!r}; the walls: {', '.join(wall_names)}")
+        direction = p.get("direction", 1)
+        if direction not in (1, -1) or isinstance(direction, bool):
+            raise _Bad(f"{where}: direction must be 1 or -1, got {direction!r}")
+        return Discharge.over_crest(name, p["crest"], direction=direction)
+    except ParameterError as exc:
+        raise _Bad(f"{where}: {exc}") from None
 
 
 def case_from_toml(path):
@@ -429,6 +471,8 @@ def _build(data, dim, params, wall_model, threads, folder="."):
                                                                   dim)))
             except ParameterError as exc:
                 raise _Bad(f"[[probe]] number {k}: {exc}") from None
+        elif kind == "discharge":
+            sim.add(_discharge_probe(geo, k, p, name, dim, wall_names))
         else:
             # without wall = NAME: the first wall, the tank when there is one
             wall = p.get("wall", wall_names[0])
