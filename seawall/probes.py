@@ -479,6 +479,61 @@ class FreeSurfaceGauge(Probe):
     Where the line meets no fluid (a dry bed, or a film thinner than about a kernel's
     half-support) the gauge reads the elevation of the bed under it, :func:`bed_level`: the
     water depth, gauge minus bed, is then 0; NaN only where there is no wall under the line.
+
+    Parameters
+    ----------
+    name : str
+        Column name.
+    x : float or (float, float)
+        The horizontal position: x in 2D, the two horizontal coordinates (in axis order) in 3D [m].
+    """
+
+    unit = "m"
+
+    def __init__(self, name: str, x: float | Sequence[float]) -> None:
+        super().__init__(name)
+        try:
+            pos = np.atleast_1d(np.asarray(x, dtype=np.float64))
+        except (TypeError, ValueError):
+            pos = np.zeros(0)
+        if pos.ndim != 1 or pos.size not in (1, 2) or not np.all(np.isfinite(pos)):
+            raise ParameterError(f"gauge {name!r}: x must be 1 finite number (2D) or 2 (3D), got {x!r}")
+        self.position = pos
+
+    def attach(self, sim: Simulation) -> None:
+        """Check the position's coordinates against the run (called by ``Simulation.add``)."""
+        up, horizontal = gauge_vertical(sim.gravity, sim.dim)
+        if self.position.size != len(horizontal):
+            raise ParameterError(f"gauge {self.name!r}: needs {len(horizontal)} horizontal coordinate(s) in a "
+                                 f"{sim.dim}D run, got {self.position.tolist()}")
+
+    def sample(self, sim):
+        fp = sim.fluid.particles
+        cells = sim.fluid_cells
+        up, horizontal = gauge_vertical(sim.gravity, sim.dim)
+        gravity_up = float(np.asarray(sim.gravity)[up])
+        dx = sim.fluid.spacing
+        if cells is None and fp.n > 0:      # before the run's first step: the cells of the state as it is
+            cells = sim.grid.build(fp["x"])
+        if fp.n > 0:
+            heights = gauge_heights(fp["x"][:, up], gravity_up, sim.kernel.support(sim.h), dx)
+            pts = np.zeros((heights.size, 3))
+            pts[:, horizontal] = self.position
+            pts[:, up] = heights
+            full = np.zeros(heights.size)
+            g = sim.grid
+            top = gauge_column(g.layout, pts, fp["x"], fp["m"] / fp["rho"], cells.start, cells.order, g.lo,
+                               g.inv_cell, g.ncell, g.period, sim.physics, full)
+            if top >= 0:
+                return surface_crossing(heights, full, top)
+        walls = [w.particles for w in sim.walls if w.n and "normal" in w.particles and "surface" in w.particles]
+        if not walls:
+            return float("nan")
+        return bed_level(np.concatenate([w["x"] for w in walls]), np.concatenate([w["normal"] for w in walls]),
+                         np.concatenate([w["surface"] for w in walls]), self.position, up, horizontal,
+                         gravity_up, dx)
+
+
 @njit(cache=True)
 def crossed_mass(x_before, x_after, m, x0, y0, ex, ey):
     """Signed mass of the particles whose path crossed the section (x0, y0) + u (ex, ey), 0 <= u <= 1, in a step.
@@ -542,55 +597,6 @@ class Discharge(Probe):
     Parameters
     ----------
     name : str
-        Column name.
-    x : float or (float, float)
-        The horizontal position: x in 2D, the two horizontal coordinates (in axis order) in 3D [m].
-    """
-
-    unit = "m"
-
-    def __init__(self, name: str, x: float | Sequence[float]) -> None:
-        super().__init__(name)
-        try:
-            pos = np.atleast_1d(np.asarray(x, dtype=np.float64))
-        except (TypeError, ValueError):
-            pos = np.zeros(0)
-        if pos.ndim != 1 or pos.size not in (1, 2) or not np.all(np.isfinite(pos)):
-            raise ParameterError(f"gauge {name!r}: x must be 1 finite number (2D) or 2 (3D), got {x!r}")
-        self.position = pos
-
-    def attach(self, sim: Simulation) -> None:
-        """Check the position's coordinates against the run (called by ``Simulation.add``)."""
-        up, horizontal = gauge_vertical(sim.gravity, sim.dim)
-        if self.position.size != len(horizontal):
-            raise ParameterError(f"gauge {self.name!r}: needs {len(horizontal)} horizontal coordinate(s) in a "
-                                 f"{sim.dim}D run, got {self.position.tolist()}")
-
-    def sample(self, sim):
-        fp = sim.fluid.particles
-        cells = sim.fluid_cells
-        up, horizontal = gauge_vertical(sim.gravity, sim.dim)
-        gravity_up = float(np.asarray(sim.gravity)[up])
-        dx = sim.fluid.spacing
-        if cells is None and fp.n > 0:      # before the run's first step: the cells of the state as it is
-            cells = sim.grid.build(fp["x"])
-        if fp.n > 0:
-            heights = gauge_heights(fp["x"][:, up], gravity_up, sim.kernel.support(sim.h), dx)
-            pts = np.zeros((heights.size, 3))
-            pts[:, horizontal] = self.position
-            pts[:, up] = heights
-            full = np.zeros(heights.size)
-            g = sim.grid
-            top = gauge_column(g.layout, pts, fp["x"], fp["m"] / fp["rho"], cells.start, cells.order, g.lo,
-                               g.inv_cell, g.ncell, g.period, sim.physics, full)
-            if top >= 0:
-                return surface_crossing(heights, full, top)
-        walls = [w.particles for w in sim.walls if w.n and "normal" in w.particles and "surface" in w.particles]
-        if not walls:
-            return float("nan")
-        return bed_level(np.concatenate([w["x"] for w in walls]), np.concatenate([w["normal"] for w in walls]),
-                         np.concatenate([w["surface"] for w in walls]), self.position, up, horizontal,
-                         gravity_up, dx)
         Column name (the rate is ``name + "_rate"``).
     start, end : sequence of float
         The section's end points (x, y) [m].
