@@ -68,7 +68,7 @@ class MinWallDistance(Probe):
             out = np.empty(fp.n)
             signed_wall_distance(fp["x"], pa["x"], pa["normal"], pa["surface"], wall.cells.start,
                                  wall.cells.order, wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell,
-                                 sim.physics.support2, out)
+                                 sim.physics.support2, wall.spacing, out)
             best = min(best, float(out.min()))
         return best / sim.fluid.spacing if math.isfinite(best) else float("nan")
 
@@ -252,7 +252,7 @@ def _write_csv(path, rows):
 
 
 def _write_markdown(path, case_name, rows, dx, t_end):
-    header = ["model", "status", "escaped", "of which domain / wall / unstable", "min wall distance [dx]", "wall-pressure error", "pressure noise",
+    header = ["model", "status", "escaped", "of which domain / wall / unstable / overtopped", "min wall distance [dx]", "wall-pressure error", "pressure noise",
               "f_sym", "energy drift", "particle-steps/s", "relative time"]
     kinds = [None, None, "int", "reasons", None, "pct", "pct", None, "pct", "M", None]
     keys = ["boundary", "status", "escaped", "escaped_by_reason", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",

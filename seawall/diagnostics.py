@@ -85,15 +85,75 @@ def nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell
     return b_best
 
 
-@particle_loop(fastmath=False)
-def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2, out):
-    """Per fluid particle: (x - s_b) . n_b for its nearest wall particle b within the radius, else +inf.
+@njit(cache=True)
+def wall_surface_distance(p0, p1, p2, dim, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2, slack):
+    """Signed distance of the point (p0, p1, p2) from a wall's surface (negative inside), +inf when no
+    wall particle lies within sqrt(radius2).
 
-    s_b is the wall particle's closest surface point and n_b its unit normal
-    into the fluid (``seawall.shapes``), so the value is the distance from
-    the wall surface, negative inside the wall. The nearest particle comes
-    from :func:`nearest_wall_particle` (particles away from every wall get
-    +inf without a search).
+    Each wall particle b carries the plane of its closest surface point s_b and normal n_b
+    (``seawall.shapes``); the value is the largest (x - s_b) . n_b over the wall particles within
+    ``slack`` (one wall spacing) of the nearest one's distance. Near a face every such plane is the
+    face's. Inside a convex edge of the material (a crest's edges, a block's corners) the material
+    is the intersection of its faces' half-planes, whose signed distance is the largest of theirs:
+    the set then holds particles of both faces, while the nearest particle alone may be one on the
+    edge's bisector, whose plane gives up to sqrt(2) times the depth at a right angle. Inside a
+    concave corner the nearest particles are the corner's own, whose planes are the distance to
+    the corner.
+    """
+    b_near = nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2)
+    if b_near < 0:
+        return np.inf
+    d0 = p0 - xw[b_near, 0]
+    d1 = p1 - xw[b_near, 1]
+    r2 = d0 * d0 + d1 * d1
+    if dim == 3:
+        d2 = p2 - xw[b_near, 2]
+        r2 += d2 * d2
+    limit = np.sqrt(r2) + slack
+    limit2 = limit * limit
+    best = -np.inf
+    c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+    c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+    c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+    zr = 2 if dim == 3 else 0
+    for oz in range(-zr, zr + 1):
+        cz = c2 + oz
+        if cz < 0 or cz >= ncell[2]:
+            continue
+        for oy in range(-2, 3):
+            cy = c1 + oy
+            if cy < 0 or cy >= ncell[1]:
+                continue
+            for ox in range(-2, 3):
+                cx = c0 + ox
+                if cx < 0 or cx >= ncell[0]:
+                    continue
+                cell = cx + ncell[0] * (cy + ncell[1] * cz)
+                for kk in range(start[cell], start[cell + 1]):
+                    b = order[kk]
+                    d0 = p0 - xw[b, 0]
+                    d1 = p1 - xw[b, 1]
+                    r2 = d0 * d0 + d1 * d1
+                    if dim == 3:
+                        d2 = p2 - xw[b, 2]
+                        r2 += d2 * d2
+                    if r2 > limit2:
+                        continue
+                    s = (p0 - sw[b, 0]) * nw[b, 0] + (p1 - sw[b, 1]) * nw[b, 1]
+                    if dim == 3:
+                        s += (p2 - sw[b, 2]) * nw[b, 2]
+                    if s > best:
+                        best = s
+    return best
+
+
+@particle_loop(fastmath=False)
+def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2, slack, out):
+    """Per fluid particle: its signed distance from the wall's surface (:func:`wall_surface_distance`),
+    +inf away from the wall.
+
+    Negative inside the wall. Particles away from every wall get +inf without a search
+    (:func:`nearest_wall_particle`'s reach mask).
     """
     from_dim = xf.shape[1]
     for i in prange(xf.shape[0]):
@@ -101,14 +161,8 @@ def signed_wall_distance(xf, xw, nw, sw, start, order, reach, lo, inv_cell, ncel
         p0 = xf[i, 0]
         p1 = xf[i, 1]
         p2 = xf[i, 2] if from_dim == 3 else 0.0
-        b_best = nearest_wall_particle(p0, p1, p2, from_dim, xw, start, order, reach, lo, inv_cell, ncell, radius2)
-        if b_best < 0:
-            out[i] = np.inf
-        else:
-            s = (p0 - sw[b_best, 0]) * nw[b_best, 0] + (p1 - sw[b_best, 1]) * nw[b_best, 1]
-            if from_dim == 3:
-                s += (p2 - sw[b_best, 2]) * nw[b_best, 2]
-            out[i] = s
+        out[i] = wall_surface_distance(p0, p1, p2, from_dim, xw, nw, sw, start, order, reach, lo, inv_cell, ncell,
+                                       radius2, slack)
 
 
 def escape_side(position, lo, hi):

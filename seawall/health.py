@@ -65,7 +65,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .diagnostics import REASONS, nearest_wall_particle
+from .diagnostics import REASONS, wall_surface_distance
 from .errors import ParameterError, require_positive
 from .jit import particle_loop
 
@@ -183,13 +183,14 @@ def walls_top(walls, gravity, dx):
 
 @particle_loop(fastmath=False)
 def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, reach, deep_cells, lo, inv_cell, ncell,
-                          radius2, deepest):
+                          radius2, slack, deepest):
     """deepest[i] = min(deepest[i], signed distance of particle i from this wall's surface) for the
     particles the wall guard tests (kept or density-flagged, below ``level`` along ``axis`` when
     axis >= 0) whose cell is marked in ``deep_cells`` (:func:`cells_maybe_deep`: elsewhere no
     distance can fall below the guard's depth, so the search is skipped). The distance is
-    :func:`seawall.diagnostics.signed_wall_distance`'s; one parallel pass without temporary arrays
-    (the masks and copies it replaced took ~1 ms a step at 80k)."""
+    :func:`seawall.diagnostics.wall_surface_distance`'s (``slack``: the wall's spacing); one
+    parallel pass without temporary arrays (the masks and copies it replaced took ~1 ms a step
+    at 80k)."""
     dim = x.shape[1]
     for i in prange(x.shape[0]):
         c = codes[i]
@@ -206,22 +207,19 @@ def deepest_wall_distance(x, codes, axis, up, level, xw, nw, sw, start, order, r
         c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
         if deep_cells[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
             continue
-        b = nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2)
-        if b >= 0:
-            s = (p0 - sw[b, 0]) * nw[b, 0] + (p1 - sw[b, 1]) * nw[b, 1]
-            if dim == 3:
-                s += (p2 - sw[b, 2]) * nw[b, 2]
-            if s < deepest[i]:
-                deepest[i] = s
+        s = wall_surface_distance(p0, p1, p2, dim, xw, nw, sw, start, order, reach, lo, inv_cell, ncell, radius2,
+                                  slack)
+        if s < deepest[i]:
+            deepest[i] = s
 
 
 @njit(cache=True)   # serial: once per wall cell list (static walls: once per run)
 def cells_maybe_deep(xw, nw, sw, cell, lo, cell_size, ncell, depth):
     """Mask of the cells where a point may lie more than ``depth`` behind this wall's surface.
 
-    The guard's distance of a point in cell C is (x - s_b) . n_b for one wall particle b in the
-    5^d cells around C (:func:`seawall.diagnostics.nearest_wall_particle`), so it is at least
-    the minimum over those b and over the cell's box of that linear function, reached at the
+    The guard's distance of a point in cell C is the largest (x - s_b) . n_b over some wall
+    particles b in the 5^d cells around C (:func:`seawall.diagnostics.wall_surface_distance`),
+    so it is at least the minimum over those b and over the cell's box of that linear function, reached at the
     box corner opposite to n_b. Cells whose minimum is above -depth cannot hold a particle the
     guard removes and are not searched: the test decides exactly as the search would, and most
     fluid particles near a wall are in such cells. The box is widened by 1e-6 of a cell (the
@@ -312,7 +310,7 @@ def wall_depth_codes(sim, depth, codes, top=None):
             deepest = np.full(fp.n, np.inf)
         deepest_wall_distance(fp["x"], codes, axis, up, level, pa["x"], pa["normal"], pa["surface"], wall.cells.start,
                               wall.cells.order, wall.cells.reach_mask(g), _deep_cells(wall, g, depth), g.lo,
-                              g.inv_cell, g.ncell, sim.physics.support2, deepest)
+                              g.inv_cell, g.ncell, sim.physics.support2, wall.spacing, deepest)
     if deepest is not None:
         codes[deepest < -depth] = WALL
 
@@ -335,10 +333,12 @@ def column_tops(walls, axis, up, cell):
 def overtopped_mask(x, walls, gravity, cell, reach):
     """Which of the points ``x`` (fluid particles leaving the domain or the hull) left over the walls.
 
-    A point is overtopped when it is not below the top of the walls within ``reach`` of it across
-    gravity (:func:`column_tops`) by more than one ``cell``: a particle that passed over a crest is
-    removed at the hull's face within a step of leaving the crest, which is less than a cell
-    below its top at any stable time step (CFL <= 0.25, h <= 2 dx). One with no wall within
+    A point is overtopped when it is not below the top of the walls within ``reach`` (one kernel
+    support) of it across gravity (:func:`column_tops`) by more than ``reach``: water that passed
+    over a crest leaves the hull at the wall's outer face, on its way down the back of the wall,
+    and a particle cannot be deeper than the wall guard's depth (one support) below a crest
+    without being removed as ``wall`` first; through a wall farther below its top, it is
+    ``domain``. One with no wall within
     ``reach`` across gravity is overtopped only when it left through the top (it went out of an
     open top, above every wall); below the walls' top it went through or under a wall (``domain``).
     No gravity along one axis, or no walls: none is.
@@ -360,7 +360,7 @@ def overtopped_mask(x, walls, gravity, cell, reach):
         near = tops[window]
         local = float(near.max()) if near.size else -np.inf
         if np.isfinite(local):
-            out[i] = height >= local - cell
+            out[i] = height >= local - reach
         else:
             out[i] = height >= overall
     return out

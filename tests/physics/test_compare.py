@@ -29,7 +29,7 @@ def test_compare_hydrostatic_table(tmp_path, capsys):
     md = (out / "compare.md").read_text()
     for model in MODELS:
         assert f"| {model} |" in md
-    assert "of which domain / wall / unstable" in md and "| 0 / 0 / 0 |" in md
+    assert "of which domain / wall / unstable / overtopped" in md and "| 0 / 0 / 0 / 0 |" in md
     assert (out / "probe_P0.png").exists()
     assert "wall models compared" in printed
     for model in MODELS:

@@ -50,12 +50,12 @@ def test_particle_inside_a_wall_is_removed_and_the_run_completes():
     assert sim.time == pytest.approx(0.03)
     assert sim.fluid.n == n - 1
     assert reasons_of(sim) == {victim: "wall"}
-    assert result.summary["escaped_by_reason"] == {"domain": 0, "wall": 1, "unstable": 0}
+    assert result.summary["escaped_by_reason"] == {"domain": 0, "wall": 1, "unstable": 0, "overtopped": 0}
     assert result.summary["escaped_particles"] == 1
     assert abs(result.summary["mass_drift"]) < 1e-12
 
 
-def test_particle_over_the_side_wall_is_domain_once_outside_the_hull():
+def test_particle_over_the_side_wall_is_overtopped_once_outside_the_hull():
     sim = small_tank()
     fp = sim.fluid.particles
     lo, hi = sim.hull_box()
@@ -69,13 +69,15 @@ def test_particle_over_the_side_wall_is_domain_once_outside_the_hull():
     fp["x"][25] = (0.25, 0.36)                   # above the middle of the tank, thrown up: falls back in
     fp["v"][25] = (0.0, 1.5)
     result = sim.run(0.3, progress=False)
-    assert reasons_of(sim) == {over: "domain"}
+    assert reasons_of(sim) == {over: "overtopped"}
     rec = sim.escaped[0]
     # removed just outside the wall's outer layer, far from the domain's edge
     assert hi[0] <= rec[2] < hi[0] + 0.05 and rec[3] > 0.3
     assert rec[2] < sim.grid.hi[0] - 0.1
     assert result.summary["escaped_where"]["by_side"] == {"x+": 1}
-    assert result.summary["escaped_by_reason"] == {"domain": 1, "wall": 0, "unstable": 0}
+    assert result.summary["escaped_by_reason"] == {"domain": 0, "wall": 0, "unstable": 0, "overtopped": 1}
+    # what left is the removed mass of its reason: the start mass is accounted for
+    assert result.summary["escaped_mass_by_reason"]["overtopped"] == pytest.approx(float(fp["m"][10]))
     assert result.summary["hull"]["hi"][1] is None
     assert splash in set(sim.fluid.particles["id"].tolist())
 
@@ -141,20 +143,21 @@ def test_restart_is_bit_exact_with_escaped_records(tmp_path):
         sim.unstable_fraction = 0.05
         fp = sim.fluid.particles
         fp["x"][5] = (-0.14, 0.1)                # wall, at the start
-        fp["x"][10] = (0.45, 0.40)               # domain, over the right wall at ~0.06 s
+        fp["x"][10] = (0.45, 0.40)               # overtopped, over the right wall at ~0.06 s
         fp["v"][10] = (3.0, 1.0)
         return sim
 
     reference = prepared()
     reference.add(sw.output.Checkpoint(str(tmp_path), every=0.1), every=0.01)
     reference.run(0.15, progress=False)
-    assert sorted(r[-1] for r in reference.escaped) == ["domain", "wall"]
+    assert sorted(r[-1] for r in reference.escaped) == ["overtopped", "wall"]
     second = prepared()
     second.add(every=0.01)
     second.restart(str(tmp_path / "checkpoint.h5"))
     assert 0.1 <= second.time < 0.11 and len(second.escaped) == 2
     second.run(0.15, progress=False)
     assert second.escaped == reference.escaped
+    assert second.escaped_mass_by_reason == reference.escaped_mass_by_reason
     for name in ("x", "v", "rho", "id"):
         assert np.array_equal(second.fluid.particles[name], reference.fluid.particles[name]), name
 
@@ -179,14 +182,15 @@ def test_escaped_csv_has_a_reason_column(tmp_path):
     sim.unstable_fraction = 0.05
     fp = sim.fluid.particles
     fp["x"][5] = (-0.14, 0.1)
-    fp["x"][10] = (0.7, 0.40)
+    fp["x"][10] = (0.7, 0.40)                    # beyond the right wall, above its crest (0.3 m)
+    fp["x"][12] = (0.7, 0.10)                    # beyond it, far below the crest: not over it
     sim.run_steps(1)
     path = tmp_path / "escaped.csv"
     _write_escaped(str(path), sim)
     lines = path.read_text().splitlines()
     assert lines[0] == "time,id,x,y,side,reason"
     rows = sorted(line.split(",")[-2:] for line in lines[1:])
-    assert rows == [["inside", "wall"], ["x+", "domain"]]
+    assert rows == [["inside", "wall"], ["x+", "domain"], ["x+", "overtopped"]]
 
 
 def test_summary_counts_escapes_by_reason(tmp_path, capsys):
@@ -196,7 +200,7 @@ def test_summary_counts_escapes_by_reason(tmp_path, capsys):
     capsys.readouterr()
     assert code == 0
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["escaped_by_reason"] == {"domain": 0, "wall": 0, "unstable": 0}
+    assert summary["escaped_by_reason"] == {"domain": 0, "wall": 0, "unstable": 0, "overtopped": 0}
     assert summary["escaped_particles"] == 0
     assert (out / "escaped.csv").read_text().splitlines() == ["time,id,x,y,side,reason"]
 
@@ -236,7 +240,7 @@ def test_cells_skipped_by_the_wall_guard_hold_no_deep_point(case, kwargs):
         s = np.empty(points.shape[0])
         reach = wall.cells.reach_mask(g)
         signed_wall_distance(points, pa["x"], pa["normal"], pa["surface"], wall.cells.start, wall.cells.order, reach,
-                             g.lo, g.inv_cell, g.ncell, sim.physics.support2, s)
+                             g.lo, g.inv_cell, g.ncell, sim.physics.support2, wall.spacing, s)
         deep_cells = cells_maybe_deep(pa["x"], pa["normal"], pa["surface"], wall.cells.cell, g.lo, g.cell_size,
                                       g.ncell, depth)
         p3 = np.zeros((points.shape[0], 3))
@@ -274,6 +278,6 @@ def test_wall_guard_codes_equal_those_of_the_full_search():
     wall_depth_codes(sim, depth, codes, walls_top(sim.walls, sim.gravity, sim.fluid.spacing))
     s = np.empty(fp.n)
     signed_wall_distance(fp["x"], pa["x"], pa["normal"], pa["surface"], wall.cells.start, wall.cells.order,
-                         wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, sim.physics.support2, s)
+                         wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, sim.physics.support2, wall.spacing, s)
     assert np.count_nonzero(s < -depth) > 5
     assert np.array_equal(codes == WALL, s < -depth)
