@@ -1,0 +1,222 @@
+"""Water over a crest: the open dam break with every wall model that holds the closed tank.
+
+    python validation/overtopping/crest_sweep.py --resolution 30            # every model, two at a time
+    python validation/overtopping/crest_sweep.py --resolution 50 --models adami,dbc --jobs 1
+    python validation/overtopping/crest_sweep.py --report-only              # tables from the stored results
+
+Runs the ``dam-break`` case (H = 0.3 m, column 2H x H) in its tank opened (``lid=false``) and
+lowered to ``tank_height=1.2`` (the crest 0.36 m above the floor, 1.2 H), at dx = H/N to
+t sqrt(g/H) = 8, so the run-up jet on the downstream wall goes over its crest. Each model runs at
+the setting with which it holds the *closed* tank: the first of its rows in the leak sweep
+(``validation/leaks/results_H50.json``; plain model first, then its option variants) that
+completed with no particle through a wall (none removed as ``wall`` or ``domain``; the density
+guard's removals in the jet, ``unstable``, are allowed there). Each run is a ``seawall run``
+process (``--no-vtk``) with a discharge section on the downstream wall's outer face, from the
+crest upwards (``--discharge``, counted +x every step). Per model it records the status and the
+time reached, the removals per reason (``escaped_by_reason``) and their mass
+(``escaped_mass_by_reason``), the mass balance (``mass_drift``: (mass now + removed - start) /
+start), the overtopped volume per metre from the removals (mass / rho0) and from the discharge
+section, and their relative difference.
+
+What must hold (the crest is flow): every run completes, nothing is removed as ``wall`` or
+``unstable`` beyond the stated transient, the mass balance holds to round-off, and the two
+overtopped volumes agree.
+
+Results: ``validation/overtopping/results_H<N>.json``; the table goes into docs/overtopping.md
+between ``<!-- crest-table:begin -->`` and ``<!-- crest-table:end -->``. Run directories go to
+``--out`` (default ``validation/overtopping/runs``, not kept in git).
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+DOC = os.path.join(ROOT, "docs", "overtopping.md")
+BEGIN = "<!-- crest-table:begin -->"
+END = "<!-- crest-table:end -->"
+LEAKS = os.path.join(ROOT, "validation", "leaks", "results_H50.json")
+H = 0.3
+G = 9.81
+RHO0 = 1000.0
+TANK_HEIGHT = 1.2
+T_END = 8.0 * math.sqrt(H / G)
+
+
+def holding_settings():
+    """{model: options} -- each registered model at the first closed-tank setting that held (module doc)."""
+    with open(LEAKS) as fh:
+        rows = json.load(fh)["models"]
+    out = {}
+    for key in sorted(rows, key=lambda k: (len(k.split(" ")), k)):
+        rec = rows[key]
+        model = key.split(" ")[0]
+        # held: completed with nothing through a wall (a closed tank has no other way out than a leak)
+        held = rec.get("status") == "completed" and not rec.get("escaped_wall") and not rec.get("escaped_domain")
+        if held and model not in out:
+            out[model] = dict(rec.get("params") or {})
+    from seawall.boundary.registry import BOUNDARIES
+
+    return {m: out[m] for m in BOUNDARIES if m in out}
+
+
+def _key(model, options):
+    return " ".join([model] + [f"{k}={v}" for k, v in sorted(options.items())])
+
+
+def _case_geometry(dx):
+    """The downstream wall's inner face, outer face and crest at this dx (seawall.cases.tanks)."""
+    from seawall.cases.base import wall_layers
+    from seawall.cases.tanks import snap
+    from seawall.kernels import CubicSpline
+
+    length = snap(5.366 * H, dx)
+    crest = snap(TANK_HEIGHT * H, dx)
+    outer = length + wall_layers(CubicSpline(), 1.3 * dx, dx) * dx
+    return length, outer, crest
+
+
+def run_model(model, options, resolution, out, threads=1):
+    dx = H / resolution
+    _, outer, crest = _case_geometry(dx)
+    run_dir = os.path.join(out, f"H{resolution}", _key(model, options).replace(" ", "_"))
+    cmd = [sys.executable, "-m", "seawall", "run", "dam-break", "--boundary", model, "--dx", repr(dx),
+           "--t-end", repr(T_END), "--out", run_dir, "--overwrite", "--no-vtk", "--no-progress",
+           "--threads", str(threads), "--set", "lid=false", "--set", f"tank_height={TANK_HEIGHT}",
+           "--discharge", f"{outer!r},{crest!r}:{outer!r},{2.0 * H!r}:over_crest"]
+    for k, v in sorted(options.items()):
+        cmd += ["--set", f"{k}={v}"]
+    env = {**os.environ, "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    started = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    rec = {"model": model, "params": options, "dx": dx, "exit_code": proc.returncode,
+           "process_time_s": time.perf_counter() - started}
+    path = os.path.join(run_dir, "summary.json")
+    if not os.path.exists(path):
+        rec.update(status="crashed", error=(proc.stderr.strip().splitlines() or [""])[-1])
+        return rec
+    with open(path) as fh:
+        s = json.load(fh)
+    mass = s.get("escaped_mass_by_reason") or {}
+    over_removed = float(mass.get("overtopped", 0.0)) / RHO0
+    section = (s.get("probes") or {}).get("over_crest") or {}
+    over_section = section.get("final")
+    rec.update({
+        "status": s.get("status"), "t_stop": s.get("t_end"), "t_end": T_END, "error": s.get("error") or "",
+        "steps": s.get("steps"), "n_fluid_end": s.get("n_fluid"),
+        "escaped_by_reason": s.get("escaped_by_reason"), "escaped_mass_by_reason": mass,
+        "mass_drift": s.get("mass_drift"),
+        "overtopped_volume_removed": over_removed, "overtopped_volume_section": over_section,
+        "section_vs_removed": (None if over_section is None or over_removed == 0.0
+                               else (over_section - over_removed) / over_removed),
+        "wall_time_s": s.get("wall_time_s"),
+    })
+    return rec
+
+
+def results_path(resolution):
+    return os.path.join(HERE, f"results_H{resolution}.json")
+
+
+def load(resolution):
+    path = results_path(resolution)
+    if not os.path.exists(path):
+        return {"H": H, "case": "dam-break", "tank_height": TANK_HEIGHT, "t_end": T_END, "models": {}}
+    with open(path) as fh:
+        return json.load(fh)
+
+
+def save(resolution, data):
+    with open(results_path(resolution), "w") as fh:
+        json.dump(data, fh, indent=1, sort_keys=True)
+        fh.write("\n")
+
+
+def _stored_resolutions():
+    found = []
+    for name in os.listdir(HERE):
+        if name.startswith("results_H") and name.endswith(".json"):
+            found.append(int(name[len("results_H"):-len(".json")]))
+    return sorted(found)
+
+
+def table(resolution, data):
+    lines = [f"**H/{resolution}** (dx = {H / resolution * 1000:.2f} mm), to t sqrt(g/H) = 8:", "",
+             "| model (setting) | status | t [s] | removed: domain / wall / unstable / overtopped | "
+             "overtopped volume [m^2/m] | discharge section vs removed | mass balance |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for key in sorted(data["models"], key=lambda k: list(holding_order()).index(k.split(" ")[0])
+                      if k.split(" ")[0] in holding_order() else 99):
+        r = data["models"][key]
+        by = r.get("escaped_by_reason") or {}
+        counts = " / ".join(str(by.get(k, "n/a")) for k in ("domain", "wall", "unstable", "overtopped"))
+        rel = r.get("section_vs_removed")
+        drift = r.get("mass_drift")
+        lines.append(f"| {key} | {r.get('status')} | {r.get('t_stop') or 0:.3f} | {counts} | "
+                     f"{r.get('overtopped_volume_removed', 0.0):.3e} | "
+                     f"{'n/a' if rel is None else f'{rel:+.1e}'} | {'n/a' if drift is None else f'{drift:.1e}'} |")
+    return "\n".join(lines)
+
+
+def holding_order():
+    from seawall.boundary.registry import BOUNDARIES
+
+    return list(BOUNDARIES)
+
+
+def write_doc():
+    parts = [table(n, load(n)) for n in _stored_resolutions()]
+    with open(DOC) as fh:
+        doc = fh.read()
+    if BEGIN not in doc or END not in doc:
+        raise SystemExit(f"{DOC} lacks the markers {BEGIN} / {END}")
+    head, rest = doc.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    with open(DOC, "w") as fh:
+        fh.write(head + BEGIN + "\n" + "\n\n".join(parts) + "\n" + END + tail)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--resolution", type=int, default=30, help="N of dx = H/N (default 30)")
+    ap.add_argument("--models", help="comma-separated model names (default: every model that holds the closed tank)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="an option for every model of this run, replacing its holding setting's value")
+    ap.add_argument("--jobs", type=int, default=2, help="runs at a time, one thread each (default 2)")
+    ap.add_argument("--out", default=os.path.join(HERE, "runs"))
+    ap.add_argument("--report-only", action="store_true", help="rewrite the tables from the stored results")
+    args = ap.parse_args(argv)
+    if args.report_only:
+        write_doc()
+        return 0
+    settings = holding_settings()
+    models = args.models.split(",") if args.models else list(settings)
+    unknown = [m for m in models if m not in settings]
+    if unknown:
+        raise SystemExit(f"--models: {unknown[0]!r} has no closed-tank setting that held; "
+                         f"those that have: {', '.join(settings)}")
+    from seawall.sweep import parse_set_items
+
+    extra = parse_set_items(args.set)
+    jobs = [(m, {**settings[m], **extra}) for m in models]
+    data = load(args.resolution)
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        for rec in pool.map(lambda job: run_model(job[0], job[1], args.resolution, args.out), jobs):
+            key = _key(rec["model"], rec["params"])
+            data["models"][key] = rec
+            save(args.resolution, data)
+            by = rec.get("escaped_by_reason") or {}
+            print(f"{key}: {rec.get('status')} at {rec.get('t_stop')} s; removed {by}; "
+                  f"mass balance {rec.get('mass_drift')}", flush=True)
+    write_doc()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
