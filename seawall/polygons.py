@@ -15,6 +15,10 @@ A 2D structure is given by its outline, a list of vertices (x, y):
   point or normal there. An outline whose closing segment leaves the material
   on the fluid side is refused (reverse the points, or name the other side).
 
+An edge that lies on a face of a given box (``junction``: a tank's interior)
+is where the structure meets the tank's walls (a back face against the tank's
+end wall, a foot on its floor): it is no wall surface either.
+
 Particles follow the convention of :mod:`seawall.shapes` and
 :func:`seawall.meshes.mesh_wall`, the 3D twin of this module: the fluid's
 lattice ``origin + (i + 1/2) dx`` continued into the material, every lattice
@@ -92,7 +96,7 @@ def _segments_cross(p, q, r, s):
 class _Outline:
     """The checked outline: its loop, which edges are surfaces, and on which side the material is."""
 
-    def __init__(self, points, fluid, label):
+    def __init__(self, points, fluid, label, junction=None):
         if fluid not in FLUID_SIDES:
             raise ParameterError(f"{label}: fluid must be one of {', '.join(FLUID_SIDES)}, got {fluid!r}")
         try:
@@ -123,6 +127,8 @@ class _Outline:
                 if _segments_cross(pts[i], pts[(i + 1) % m], pts[j], pts[(j + 1) % m]):
                     raise ParameterError(f"{label}: the outline crosses itself (edges {i} and {j})")
         area = 0.5 * float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
+        if abs(area) <= 1e-12 * size * size:
+            raise ParameterError(f"{label}: the outline encloses no area (its points lie on one line)")
         if fluid in ("left", "right") and (area < 0.0) != (fluid == "left"):
             other = "right" if fluid == "left" else "left"
             raise ParameterError(
@@ -133,6 +139,18 @@ class _Outline:
         self.exposed = np.ones(m, dtype=bool)
         if fluid in ("left", "right"):
             self.exposed[-1] = False      # the closing segment
+        if junction is not None:
+            # an edge on a face of the box where other walls stand (a tank's floor or side) meets them
+            jlo, jhi = (np.asarray(c, dtype=np.float64) for c in junction)
+            tol = 1e-9 * max(size, 1e-300)
+            for k in range(m):
+                a, b = pts[k], pts[(k + 1) % m]
+                for axis in range(2):
+                    for level in (jlo[axis], jhi[axis]):
+                        if np.isfinite(level) and abs(a[axis] - level) <= tol and abs(b[axis] - level) <= tol:
+                            self.exposed[k] = False
+        if not self.exposed.any():
+            raise ParameterError(f"{label}: no edge of the outline is a wall surface (all meet other walls)")
         self.material_inside = fluid != "inside"
         # unit normal of each edge, out of the polygon (right of travel for a counter-clockwise loop)
         tang = seg / length[:, None]
@@ -144,6 +162,16 @@ class _Outline:
     def material(self, pos, scale):
         inside = inside_polygon(pos, self.loop, scale)
         return inside if self.material_inside else ~inside
+
+    def distance(self, pos):
+        """Per point: distance to the nearest wall surface."""
+        dmin = np.full(pos.shape[0], np.inf)
+        for k in np.flatnonzero(self.exposed):
+            a, b = self.loop[k], self.loop[k + 1]
+            seg = b - a
+            t = np.clip(((pos - a) @ seg) / float(seg @ seg), 0.0, 1.0)
+            np.minimum(dmin, np.linalg.norm(pos - (a + t[:, None] * seg), axis=1), out=dmin)
+        return dmin
 
     def closest(self, pos, tol):
         """Per point: distance to the nearest wall surface, its surface point (corners merged) and
@@ -163,10 +191,10 @@ class _Outline:
         first_foot = np.zeros((n, 2))
         m_sum = np.zeros((n, 2))
         count = np.zeros(n, dtype=np.int64)
-        safe = np.maximum(dmin, 1e-300)[:, None]
         for foot, d in feet:
             tie = d <= dmin + tol
-            u = (foot - pos) / safe
+            u = np.zeros_like(pos)
+            u[tie] = (foot[tie] - pos[tie]) / np.maximum(dmin[tie], 1e-300)[:, None]
             new = tie & (count == 0)
             first_u[new] = u[new]
             first_foot[new] = foot[new]
@@ -203,7 +231,7 @@ def _origin(origin):
 
 
 def polygon_wall(points, dx, layers=3, *, fluid="outside", origin=None, layout="layers", beta=1.0,
-                 label="outline") -> Shape:
+                 junction=None, label="outline") -> Shape:
     """Wall particles of a 2D structure given by its outline (module doc).
 
     Parameters
@@ -224,6 +252,10 @@ def polygon_wall(points, dx, layers=3, *, fluid="outside", origin=None, layout="
         ``"surface"``: one row on the exposed edges at spacing dx / beta.
     beta : float
         Ratio dx / wall spacing of the surface row.
+    junction : (lo, hi), optional
+        A box (a tank's interior; +-inf for an open side) on whose faces the
+        outline meets other walls: an edge lying on one of them is no wall
+        surface, as the closing segment of an open outline is not.
     label : str
         Names the outline in error messages.
 
@@ -234,7 +266,7 @@ def polygon_wall(points, dx, layers=3, *, fluid="outside", origin=None, layout="
         the fluid) and ``layer``.
     """
     dx = require_positive("dx", dx)
-    outline = _Outline(points, fluid, label)
+    outline = _Outline(points, fluid, label, junction)
     origin = _origin(origin)
     if layout == "surface":
         return _surface_row(outline, dx / require_positive("beta", beta))
@@ -289,17 +321,16 @@ def _surface_row(outline, spacing):
     return Shape(pos, spacing, normals=nrm, surface_points=pos.copy(), layer=np.zeros(pos.shape[0], dtype=np.int64))
 
 
-def polygon_overlap(positions, points, *, fluid="outside", clearance=0.0, label="outline"):
+def polygon_overlap(positions, points, *, fluid="outside", clearance=0.0, junction=None, label="outline"):
     """Mask of the points a structure displaces: inside its material, or closer than
     ``clearance`` [m] to one of its wall surfaces (the fluid's lattice keeps dx / 2 from a
-    surface, as :func:`seawall.meshes.default_clearance` argues)."""
-    outline = _Outline(points, fluid, label)
+    surface, as :func:`seawall.meshes.default_clearance` argues); ``junction`` as in :func:`polygon_wall`."""
+    outline = _Outline(points, fluid, label, junction)
     pos = np.asarray(positions, dtype=np.float64)
     if pos.ndim != 2 or pos.shape[1] != 2:
         raise ParameterError(f"positions must be an (N, 2) array, got shape {pos.shape}")
     scale = max(outline.size, 1e-300)
     covered = outline.material(pos, scale)
     if clearance > 0.0 and pos.shape[0]:
-        dist, _ = outline.closest(pos, 0.0)
-        covered |= dist < clearance * (1.0 - 1e-9)
+        covered |= outline.distance(pos) < clearance * (1.0 - 1e-9)
     return covered

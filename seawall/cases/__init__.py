@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..errors import ParameterError
-from .base import Case, Parameter, tank_wall, wall_layers
+from .base import Case, Parameter, outline_wall, tank_wall, wall_layers
 from .channels import CHANNEL, PIPE_3D
 from .dem_box import DEM_BOX
 from .flows import COUETTE, ELLIPTICAL_DROP, POISEUILLE, TAYLOR_GREEN
@@ -43,4 +43,4 @@ def build(name: str, **params: Any) -> Runner:
     return case_by_name(name).build(**params)
 
 
-__all__ = ["CASES", "Case", "Parameter", "case_by_name", "build", "tank_wall", "wall_layers"]
+__all__ = ["CASES", "Case", "Parameter", "case_by_name", "build", "outline_wall", "tank_wall", "wall_layers"]

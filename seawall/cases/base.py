@@ -342,6 +342,42 @@ def tank_wall(model, lo, hi, dx, kernel, h, open_top=True):
     return shapes.tank(lo, hi, dx, layers=wall_layers(kernel, h, dx), open_top=open_top)
 
 
+def outline_wall(model, points, dx, kernel, h, *, fluid="outside", origin=None, layers=None, inside=None,
+                 label="outline"):
+    """A 2D structure's wall particles (:func:`seawall.polygons.polygon_wall`) in the layout the wall
+    model needs: ``layers`` (default ceil(support / dx), :func:`wall_layers`; fewer is refused, the
+    kernel would reach past the wall) layers of the lattice ``origin + (i + 1/2) dx``, or one surface
+    row at dx / beta (repulsive models). ``inside``: the (lo, hi) box of a tank's interior; particles
+    outside it are dropped, the tank's own walls being there already (a foot buried in the floor), and
+    edges on its faces meet the tank's walls, so they are no wall surface (``junction`` of
+    :func:`seawall.polygons.polygon_wall`).
+    """
+    import numpy as np
+
+    from .. import polygons
+
+    needed = wall_layers(kernel, h, dx)
+    if layers is None:
+        layers = needed
+    elif isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or layers < needed:
+        raise ParameterError(f"{label}: layers must be a whole number >= {needed} (the kernel support at "
+                             f"h = {h / dx:g} dx fills {needed} layers), got {layers!r}")
+    if model.layout == "surface":
+        shape = polygons.polygon_wall(points, dx, fluid=fluid, origin=origin, layout="surface", beta=model.beta,
+                                      junction=inside, label=label)
+    else:
+        shape = polygons.polygon_wall(points, dx, int(layers), fluid=fluid, origin=origin, junction=inside,
+                                      label=label)
+    if inside is not None:
+        lo, hi = (np.asarray(c, dtype=np.float64) for c in inside)
+        tol = 1e-9 * dx
+        keep = np.all((shape.positions > lo - tol) & (shape.positions < hi + tol), axis=1)
+        if not keep.any():
+            raise ParameterError(f"{label}: no wall particle lies inside the tank {lo.tolist()} - {hi.tolist()}")
+        shape = shape.subset(keep)
+    return shape
+
+
 def wall_layers(kernel, h, dx):
     """Number of wall layers that fill the kernel support: ceil(support / dx)."""
     return max(1, int(math.ceil(kernel.support(h) / dx - 1e-9)))

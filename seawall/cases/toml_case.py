@@ -8,6 +8,8 @@ Layout (every table is described in docs/case-files.md)::
     [fluid]       rho0, c0, alpha, delta, h_factor, cfl      (each also a --set parameter)
     [tank]        lo, hi, open_top                             (the interior box; 2 or 3 coordinates)
     [[wall]]      file, name, fluid = "outside" | "inside"     (3D walls from STL/OBJ files, seawall.meshes)
+                  points, name, fluid = "outside" | "inside" | "left" | "right", layers
+                                                               (2D structures by their outline, seawall.polygons)
     [[water]]     lo, hi | file, pressure = "hydrostatic" | "rest"   (blocks, or fills of closed meshes)
     [[probe]]     kind = wall_pressure | pressure | front | kinetic_energy | mass | wall_force | gauge, name, point,
                   axis, wall, part  (a gauge's point is its horizontal position: [x] in 2D, [x, y] in 3D;
@@ -16,7 +18,8 @@ Layout (every table is described in docs/case-files.md)::
                   wall; kind = discharge with start, end | crest, direction
 
 [tank] may be left out when [[wall]] entries bound the water; mesh files are
-found relative to the TOML file.
+found relative to the TOML file. 2D outlines displace the water: [[water]]
+particles inside a structure or closer than dx/2 to its surface are left out.
 
 A number anywhere in [tank], [[water]] and [[probe]] may instead be a string:
 an arithmetic expression over the parameters ("2 * H", "length - 0.1").
@@ -47,7 +50,7 @@ CASE_KEYS = {"name", "description", "t_end", "output_every", "probe_every", "bou
              "unstable_fraction", "unstable_window"}
 TANK_KEYS = {"lo", "hi", "open_top"}
 WATER_KEYS = {"lo", "hi", "pressure", "file"}
-WALL_KEYS = {"file", "name", "fluid"}
+WALL_KEYS = {"file", "name", "fluid", "points", "layers"}
 PROBE_KINDS = ("wall_pressure", "pressure", "front", "kinetic_energy", "mass", "wall_force", "gauge")
 PROBE_KEYS = {"kind", "name", "point", "axis", "direction", "wall", "part"}
 KINDS = {"float": float, "int": int, "str": str, "bool": bool}
@@ -199,12 +202,19 @@ def _check_structure(data):
     walls = _array_of_tables(data, "wall", WALL_KEYS)
     names = {"tank"} if "tank" in data else set()
     for k, w in enumerate(walls, start=1):
-        if not isinstance(w.get("file"), str):
-            raise _Bad(f"[[wall]] number {k} needs file = \"NAME.stl\" (or .obj)")
-        if w.get("fluid", "outside") not in ("outside", "inside"):
-            raise _Bad(f"[[wall]] number {k}: fluid must be 'outside' (an obstacle) or 'inside' (a container), "
-                       f"got {w['fluid']!r}")
-        name = w.get("name") or os.path.splitext(os.path.basename(w["file"]))[0]
+        if "points" in w:
+            _check_outline(k, w)
+        else:
+            if not isinstance(w.get("file"), str):
+                raise _Bad(f"[[wall]] number {k} needs file = \"NAME.stl\" (a 3D mesh) or points = [[x, y], ...] "
+                           "(a 2D outline)")
+            if "layers" in w:
+                raise _Bad(f"[[wall]] number {k}: layers is a key of 2D outlines (points); a mesh wall takes "
+                           "the model's layers")
+            if w.get("fluid", "outside") not in ("outside", "inside"):
+                raise _Bad(f"[[wall]] number {k}: fluid must be 'outside' (an obstacle) or 'inside' (a container), "
+                           f"got {w['fluid']!r}")
+        name = _wall_name(k, w)
         if not isinstance(name, str) or name in names:
             raise _Bad(f"[[wall]] number {k}: name {name!r} is taken or not a string (give name = ...)")
         names.add(name)
@@ -254,6 +264,33 @@ def _check_discharge(k, p):
         raise _Bad(f"{where}: direction goes with crest; with start and end the order of the points gives it")
 
 
+def _wall_name(k, w):
+    """A [[wall]]'s name: given, or its mesh file's stem, or wall_<k> for an outline."""
+    if w.get("name"):
+        return w["name"]
+    return os.path.splitext(os.path.basename(w["file"]))[0] if "file" in w else f"wall_{k}"
+
+
+def _check_outline(k, w):
+    """A 2D [[wall]]: points (a list of [x, y], numbers or expressions), fluid side, layers."""
+    from ..polygons import FLUID_SIDES
+
+    where = f"[[wall]] number {k}"
+    if "file" in w:
+        raise _Bad(f"{where}: give file (a 3D mesh) or points (a 2D outline), not both")
+    pts = w["points"]
+    if (not isinstance(pts, list) or len(pts) < 3
+            or not all(isinstance(q, list) and len(q) == 2 for q in pts)):
+        raise _Bad(f"{where}: points must be a list of at least 3 [x, y] pairs, got {pts!r}")
+    fluid = w.get("fluid", "outside")
+    if fluid not in FLUID_SIDES:
+        raise _Bad(f"{where}: fluid must be one of {', '.join(FLUID_SIDES)} (an obstacle, a container, or the "
+                   f"side of the outline's direction of travel where the water is), got {fluid!r}")
+    layers = w.get("layers")
+    if layers is not None and (isinstance(layers, bool) or not isinstance(layers, int) or layers < 1):
+        raise _Bad(f"{where}: layers must be a whole number >= 1, got {layers!r}")
+
+
 def _discharge_probe(geo, k, p, name, dim, wall_names):
     """The Discharge probe of a [[probe]] kind = "discharge" (checked by _check_discharge)."""
     from ..probes import Discharge
@@ -287,12 +324,16 @@ def case_from_toml(path):
     try:
         meta = _check_structure(data)
         parameters = {**_parameters(data), **_fluid_parameters(data.get("fluid", {}))}
+        outlines = [k for k, w in enumerate(data.get("wall", []), start=1) if "points" in w]
+        mesh_files = [k for k, w in enumerate(data.get("wall", []), start=1) if "points" not in w]
         if "tank" not in data:
-            dim = 3                     # mesh walls are 3D
+            dim = 2 if outlines else 3  # outlines are 2D, mesh walls 3D
         else:
             dim = len(data["tank"]["lo"]) if isinstance(data["tank"]["lo"], list) else 0
-        if "wall" in data and dim != 3:
-            raise _Bad("[[wall]] mesh walls are 3D: the tank needs 3 coordinates")
+        if mesh_files and dim != 3:
+            raise _Bad(f"[[wall]] number {mesh_files[0]} is a mesh wall, which is 3D: the tank needs 3 coordinates")
+        if outlines and dim != 2:
+            raise _Bad(f"[[wall]] number {outlines[0]} is a 2D outline (points): the tank needs 2 coordinates")
         if dim not in (2, 3):
             raise _Bad(f"[tank] lo must be a list of 2 or 3 numbers, got {data['tank']['lo']!r}")
         numbers = {}
@@ -346,13 +387,13 @@ def _mesh_path(folder, name):
 def _build(data, dim, params, wall_model, threads, folder="."):
     import numpy as np
 
-    from .. import meshes, probes, shapes
+    from .. import meshes, polygons, probes, shapes
     from ..boundary.base import WallSystem
     from ..errors import require_positive
     from ..integrators import Symplectic
     from ..kernels import CubicSpline
     from ..simulation import Simulation
-    from .base import tank_wall
+    from .base import outline_wall, tank_wall
     from .tanks import _fluid, _gravity, _hydrostatic, snap
 
     geo = _Geometry(params)
@@ -372,21 +413,39 @@ def _build(data, dim, params, wall_model, threads, folder="."):
         model = wall_model()
         wall_systems.append(WallSystem(tank_wall(model, lo, hi, dx, kernel, h, open_top=tank.get("open_top", True)),
                                        model=model, name="tank"))
-    # mesh walls on the fluid's lattice: origin 0, or the tank's corner when there is a tank
-    origin = np.asarray(lo, dtype=float) if lo is not None else np.zeros(3)
+    # mesh walls and outlines on the fluid's lattice: origin 0, or the tank's corner when there is a tank
+    origin = np.asarray(lo, dtype=float) if lo is not None else np.zeros(dim)
     wall_meshes = [None] * len(wall_systems)
+    outlines = []                       # (points, fluid side) of the 2D structures: they displace water
     for k, w in enumerate(data.get("wall", []), start=1):
-        name = w.get("name") or os.path.splitext(os.path.basename(w["file"]))[0]
+        name = _wall_name(k, w)
         model = wall_model()
-        mesh = meshes.load_mesh(_mesh_path(folder, w["file"]))
-        shape = meshes.mesh_wall_for_model(model, mesh, dx, kernel, h, fluid=w.get("fluid", "outside"), origin=origin)
+        if "points" in w:
+            where = f"[[wall]] number {k}"
+            pts = [geo.point(f"{where} points[{j}]", q, 2) for j, q in enumerate(w["points"])]
+            fluid_side = w.get("fluid", "outside")
+            interior = None
+            if tank:
+                top = hi[1] if not tank.get("open_top", True) else np.inf
+                interior = ((lo[0], lo[1]), (hi[0], top))
+            try:
+                shape = outline_wall(model, pts, dx, kernel, h, fluid=fluid_side, origin=origin,
+                                     layers=w.get("layers"), inside=interior, label=where)
+            except ParameterError as exc:
+                raise _Bad(str(exc)) from None
+            outlines.append((pts, fluid_side, where, interior))
+            wall_meshes.append(None)
+        else:
+            mesh = meshes.load_mesh(_mesh_path(folder, w["file"]))
+            shape = meshes.mesh_wall_for_model(model, mesh, dx, kernel, h, fluid=w.get("fluid", "outside"),
+                                               origin=origin)
+            wall_meshes.append(mesh)
         wall_systems.append(WallSystem(shape, model=model, name=name))
-        wall_meshes.append(mesh)
     wall_shapes = [(w.name, shapes.Shape(w.x, w.spacing, normals=w.particles["normal"] if "normal" in w.particles
                                          else None,
                                          surface_points=w.particles["surface"] if "surface" in w.particles else None))
                    for w in wall_systems]
-    mesh_walls = wall_shapes[1:] if tank else wall_shapes
+    mesh_walls = [ws for ws, m in zip(wall_shapes, wall_meshes) if m is not None]
     if mesh_walls:
         meshes.check_wall_junctions([(m, n, w) for m, (n, w) in zip(wall_meshes, wall_shapes)])
 
@@ -420,6 +479,11 @@ def _build(data, dim, params, wall_model, threads, folder="."):
     params["c0"] = c0
     parts = [shapes.block(wlo, whi, dx) for wlo, whi, _ in blocks] + [f[0] for f in fills]
     x = np.concatenate([p.positions for p in parts])
+    for pts, fluid_side, where, junction in outlines:
+        # the structure displaces the water: its material, and dx/2 in front of its surface
+        x = x[~polygons.polygon_overlap(x, pts, fluid=fluid_side, clearance=0.5 * dx, junction=junction, label=where)]
+    if x.shape[0] == 0:
+        raise _Bad("the structures displace all the water of the [[water]] blocks")
     if len(fills) > 1 or len(blocks) > 1 or (fills and blocks):
         # each block's own hydrostatic column (rest where a block asks for it); fills take their own top
         columns = [(np.asarray(wlo), np.asarray(whi), whi[-1], initial) for wlo, whi, initial in blocks]
