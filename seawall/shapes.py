@@ -400,8 +400,10 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
             raise ParameterError(
                 f"hi - lo must be a whole multiple of dx along axis {k} so that wall and "
                 f"fluid share one lattice, got {ratio!r} cells")
-        top = n if open_axis else n + layers
-        idx_axes.append(range(-layers, top))
+        # an open tank's side walls are twice as thick: their back face is a surface too
+        side = 2 * layers if open_top and k < d - 1 else layers
+        top = n if open_axis else n + side
+        idx_axes.append(range(-side, top))
         n_int.append(n)
 
     outer = math.prod(len(r) for r in idx_axes)
@@ -437,26 +439,61 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
     lay_axis = np.where(below, -idx - 1, np.where(above, idx - n_arr, -1))
     layer = lay_axis.max(axis=1)
     if open_top:
-        # the crest: an open tank's side walls end in a top face at hi_last that water can
-        # land on and flow over. A side-wall particle nearer to it than to the inner face
-        # takes its surface point there (normal up); one as near to both (on the convex
-        # edge's bisector) takes the edge itself, with the bisecting normal, as mesh walls
-        # do (seawall.meshes), so fluid on the crest or inside the tank is never behind it.
-        side = ~below[:, -1]
-        crest_level = lo[-1] + n_int[-1] * dx   # the top of the side walls' upper cells
-        to_crest = crest_level - pos[:, -1]
-        to_inner = np.linalg.norm(surface[:, :-1] - pos[:, :-1], axis=1)
-        tol = _CELL_TOL * dx
-        crest = side & (to_crest < to_inner - tol)
-        edge = side & (np.abs(to_crest - to_inner) <= tol)
-        surface[crest, :-1] = pos[crest, :-1]
-        surface[crest | edge, -1] = crest_level
-        layer[crest] = np.minimum(layer[crest], np.floor(to_crest[crest] / dx + 1e-9).astype(layer.dtype))
+        _open_tank_surfaces(pos, surface, layer, below, lo, hi, n_int, layers, dx)
     diff = surface - pos
     dist = np.linalg.norm(diff, axis=1)
     normals = diff / dist[:, None]
     order = np.argsort(layer, kind="stable")
     return Shape(pos[order], dx, normals[order], surface[order], layer[order])
+
+
+def _open_tank_surfaces(pos, surface, layer, below, lo, hi, n_int, layers, dx):
+    """Surface points (in place) of an open tank's side walls: the inner face, the crest and the back face.
+
+    Water that goes over an open tank's side wall lands on its top, the **crest** (the top of the
+    walls' upper cells), and runs down its **back face**. Both are wall surfaces: a side-wall
+    particle takes the nearest of inner face, crest and back face; one as near to two of them
+    (on a convex edge's bisector) takes the edge, with the bisecting normal, as mesh walls do
+    (seawall.meshes), so fluid in front of either face is never behind it. The walls are
+    ``2 * layers`` thick, so each face has its ``layers`` and a particle that goes through a
+    wall is still one support deep behind the face it entered by (seawall.health). Floor
+    particles keep the inner surface.
+    """
+    d = pos.shape[1]
+    side = ~below[:, -1]
+    if not side.any():
+        return
+    p = pos[side]
+    thick = 2 * layers * dx
+    crest_level = lo[-1] + n_int[-1] * dx
+    cands = [surface[side].copy()]                       # the inner face (or its vertical edge)
+    crest = p.copy()
+    crest[:, -1] = crest_level
+    cands.append(crest)
+    back = p.copy()                                      # the nearest face of the outer box, across gravity
+    best = np.full(p.shape[0], np.inf)
+    for k in range(d - 1):
+        for level in (lo[k] - thick, hi[k] + thick):
+            dist = np.abs(p[:, k] - level)
+            nearer = dist < best
+            back[nearer] = p[nearer]
+            back[nearer, k] = level
+            best = np.minimum(best, dist)
+    cands.append(back)
+    dists = np.stack([np.linalg.norm(c - p, axis=1) for c in cands])
+    dmin = dists.min(axis=0)
+    tie = dists <= dmin + _CELL_TOL * dx
+    m = np.zeros_like(p)
+    for c, t in zip(cands, tie):
+        m[t] += (c[t] - p[t]) / dmin[t, None]
+    m /= tie.sum(axis=0)[:, None]
+    chosen = np.argmin(dists, axis=0)
+    out = np.stack(cands)[chosen, np.arange(p.shape[0])]
+    two = tie.sum(axis=0) > 1
+    m2 = np.einsum("ij,ij->i", m[two], m[two])
+    out[two] = p[two] + (dmin[two] / m2)[:, None] * m[two]
+    surface[side] = out
+    layer[side] = np.minimum(layer[side], np.floor(dmin / dx + 1e-9).astype(layer.dtype))
 
 
 def tank_surface(lo, hi, spacing, open_top=True) -> Shape:

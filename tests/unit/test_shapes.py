@@ -135,25 +135,39 @@ def test_tank_geometry(lo, hi, open_top):
     diff = sp - pos
     dist = np.linalg.norm(diff, axis=1)
     np.testing.assert_allclose(nrm, diff / dist[:, None], atol=1e-12)
-    assert lay.min() == 0 and lay.max() == layers - 1
+    # (an open tank's floor reaches under its walls' back halves: the corners there are layers away
+    # from the floor and the side)
+    assert lay.min() == 0 and lay.max() == (2 * layers - 1 if open_top else layers - 1)
 
-    # an open tank's crest: the side walls' top face at hi_last; the particles nearer to it than
-    # to the inner face point straight up, those as near to both at the crest's inner edge
-    crest = np.zeros(w.n, dtype=bool)
+    # an open tank's side walls are 2 * layers thick; each particle above the floor takes the nearest of
+    # the inner face, the crest (hi_last) and the back face, a tie the edge between them
+    side_surface = np.zeros(w.n, dtype=bool)
     if open_top:
+        thick = 2 * layers * dx
         beside = np.any((pos[:, :-1] < lo[:-1]) | (pos[:, :-1] > hi[:-1]), axis=1) & (pos[:, -1] > lo[-1])
-        to_crest = hi[-1] - pos[:, -1]
-        to_inner = np.linalg.norm(pos[:, :-1] - np.clip(pos[:, :-1], lo[:-1], hi[:-1]), axis=1)
-        crest = beside & (to_crest < to_inner - 1e-9)
-        edge = beside & (np.abs(to_crest - to_inner) <= 1e-9)
-        assert np.any(crest) and np.any(edge)
-        np.testing.assert_allclose(sp[crest | edge, -1], hi[-1], atol=1e-12)
-        np.testing.assert_allclose(nrm[crest, -1], 1.0, atol=1e-12)
-        assert np.all(lay[crest] <= np.floor(to_crest[crest] / dx + 1e-9))
-        np.testing.assert_allclose(sp[edge, :-1], np.clip(pos[edge, :-1], lo[:-1], hi[:-1]), atol=1e-12)
-        # nothing else points up out of a side wall, and a closed tank has no crest
-        assert not np.any(beside & ~(crest | edge) & (nrm[:, -1] > 1e-12))
-        crest |= edge
+        inner = np.linalg.norm(pos[:, :-1] - np.clip(pos[:, :-1], lo[:-1], hi[:-1]), axis=1)
+        crest = hi[-1] - pos[:, -1]
+        back = np.min(np.concatenate([pos[:, :-1] - (lo[:-1] - thick), (hi[:-1] + thick) - pos[:, :-1]], axis=1),
+                      axis=1)
+        nearest = np.minimum(np.minimum(inner, crest), back)
+        assert np.all(pos[:, :-1] > lo[:-1] - thick) and np.all(pos[:, :-1] < hi[:-1] + thick)
+        np.testing.assert_allclose(dist[beside & (nearest == inner) & (crest > inner + 1e-9) & (back > inner + 1e-9)],
+                                   inner[beside & (crest > inner + 1e-9) & (back > inner + 1e-9)], atol=1e-12)
+        on_crest = beside & (crest < inner - 1e-9) & (crest < back - 1e-9)
+        assert np.any(on_crest)
+        np.testing.assert_allclose(sp[on_crest, -1], hi[-1], atol=1e-12)
+        np.testing.assert_allclose(nrm[on_crest, -1], 1.0, atol=1e-12)
+        on_back = beside & (back < inner - 1e-9) & (back < crest - 1e-9)
+        assert np.any(on_back)
+        np.testing.assert_allclose(dist[on_back], back[on_back], atol=1e-12)
+        assert np.all(np.einsum("ij,ij->i", nrm[on_back, :-1], pos[on_back, :-1] - 0.5 * (lo[:-1] + hi[:-1])) > 0)
+        # a particle as near to two faces takes the edge between them: farther than either face
+        edge = beside & ~on_crest & ~on_back & ~((inner < crest - 1e-9) & (inner < back - 1e-9))
+        assert np.any(edge)
+        assert np.all(dist[edge] > nearest[edge] + 1e-9)
+        assert np.all(lay[beside] <= np.floor(nearest[beside] / dx + 1e-9))
+        side_surface = beside & ~((inner < crest - 1e-9) & (inner < back - 1e-9))
+    crest = side_surface
 
     # face particles: distance (layer + 0.5) dx, normal along one axis
     nout = _face_count(pos, lo, hi)
@@ -185,8 +199,6 @@ def test_tank_geometry(lo, hi, open_top):
     mirror = w.mirror_points
     np.testing.assert_allclose(mirror, 2 * sp - pos)
     assert np.all(mirror[~crest] >= lo - 1e-12) and np.all(mirror[~crest] <= hi + 1e-12)
-    # ... and above the crest for its particles
-    assert np.all(mirror[crest, -1] > hi[-1])
 
     # no duplicates: closest pair is exactly one lattice spacing
     assert _pairwise_min(pos) == pytest.approx(dx, rel=1e-9)
@@ -196,7 +208,7 @@ def test_tank_geometry(lo, hi, open_top):
     n = np.rint((hi - lo) / dx).astype(int)
     ranges = [range(-layers, n[k] + layers) for k in range(d)]
     if open_top:
-        ranges[-1] = range(-layers, n[-1])
+        ranges = [range(-2 * layers, n[k] + 2 * layers) for k in range(d - 1)] + [range(-layers, n[-1])]
     expected = {i for i in itertools.product(*ranges)
                 if any(i[k] < 0 or i[k] >= n[k] for k in range(d))}
     got = _as_index_set(pos, lo, dx)
