@@ -4,9 +4,10 @@ After every step the simulation sorts out the fluid particles that can no
 longer take part in the flow, removes them, records them (time, id,
 position, reason) and goes on:
 
-* ``overtopped`` -- outside the domain box or the hull (below) at or above
-  the top of the walls beside it: water that went over a crest or out through
-  an open top (:func:`overtopped_mask`). Flow, not damage.
+* ``overtopped`` -- outside the domain box or the hull (below) over the top
+  of the walls beside it, or down the back face of an open wall: water that
+  went over a crest or out through an open top (:func:`overtopped_mask`).
+  Flow, not damage.
 * ``domain`` -- outside the domain box, or outside the walls' **hull**: the
   region the walls enclose across gravity (below), any other way: through
   the bottom, out of a flume's open end, or out through a wall's outer face.
@@ -333,15 +334,19 @@ def column_tops(walls, axis, up, cell):
 def overtopped_mask(x, walls, gravity, cell, reach):
     """Which of the points ``x`` (fluid particles leaving the domain or the hull) left over the walls.
 
-    A point is overtopped when it is not below the top of the walls within ``reach`` (one kernel
-    support) of it across gravity (:func:`column_tops`) by more than ``reach``: water that passed
-    over a crest leaves the hull at the wall's outer face, on its way down the back of the wall,
-    and a particle cannot be deeper than the wall guard's depth (one support) below a crest
-    without being removed as ``wall`` first; through a wall farther below its top, it is
-    ``domain``. One with no wall within
-    ``reach`` across gravity is overtopped only when it left through the top (it went out of an
-    open top, above every wall); below the walls' top it went through or under a wall (``domain``).
-    No gravity along one axis, or no walls: none is.
+    A point is overtopped when it left
+
+    * over the top: it is not below the top of the walls within ``reach`` (one kernel support)
+      of it across gravity (:func:`column_tops`) by more than ``reach`` (water that passed over a
+      crest cannot be deeper below it without the wall guard removing it as ``wall`` first), or
+      upwards where no wall stands beside it (out of an open top, above every wall); or
+    * down the back of a wall: the wall particle nearest to it within ``reach`` faces away from
+      the walls' interior, towards the way it left (its normal points out of the hull along the
+      axis it crossed: an open tank's back face, ``seawall.shapes.tank``). Such walls are thick
+      enough that water going *through* them is removed as ``wall`` before it reaches their back.
+
+    Otherwise it went through or under a wall (``domain``). No gravity along one axis, or no
+    walls: none is.
     """
     gravity = np.asarray(gravity, dtype=np.float64)
     out = np.zeros(x.shape[0], dtype=bool)
@@ -353,6 +358,9 @@ def overtopped_mask(x, walls, gravity, cell, reach):
     overall = float(tops.max())
     horizontal = [k for k in range(x.shape[1]) if k != axis]
     span = int(math.ceil(reach / cell))
+    faced = [w for w in walls if w.n and "normal" in w.particles]
+    centre = 0.5 * (np.min([w.x.min(axis=0) for w in walls if w.n], axis=0)
+                    + np.max([w.x.max(axis=0) for w in walls if w.n], axis=0))
     for i in range(x.shape[0]):
         height = up * x[i, axis]
         c = np.floor((x[i, horizontal] - lo) / cell).astype(np.int64)
@@ -363,6 +371,19 @@ def overtopped_mask(x, walls, gravity, cell, reach):
             out[i] = height >= local - reach
         else:
             out[i] = height >= overall
+        if out[i] or not faced:
+            continue
+        # the nearest wall particle: does it face out of the walls' interior, the way the point left?
+        best, normal, where = np.inf, None, None
+        for w in faced:
+            r2 = np.sum((w.x - x[i]) ** 2, axis=1)
+            b = int(np.argmin(r2))
+            if r2[b] < best:
+                best, normal, where = float(r2[b]), w.particles["normal"][b], w.x[b]
+        if best <= reach * reach:
+            outward = where - centre
+            outward[axis] = 0.0
+            out[i] = float(np.dot(normal, outward)) > 0.0
     return out
 
 

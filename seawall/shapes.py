@@ -456,11 +456,12 @@ def _open_tank_surfaces(pos, surface, layer, below, lo, hi, n_int, layers, dx):
     (on a convex edge's bisector) takes the edge, with the bisecting normal, as mesh walls do
     (seawall.meshes), so fluid in front of either face is never behind it. The walls are
     ``2 * layers`` thick, so each face has its ``layers`` and a particle that goes through a
-    wall is still one support deep behind the face it entered by (seawall.health). Floor
-    particles keep the inner surface.
+    wall is still one support deep behind the face it entered by (seawall.health). The back
+    face runs down past the floor to its underside; the particles under the interior keep the
+    floor's surface.
     """
     d = pos.shape[1]
-    side = ~below[:, -1]
+    side = np.any((pos[:, :-1] < lo[:-1]) | (pos[:, :-1] > hi[:-1]), axis=1)
     if not side.any():
         return
     p = pos[side]

@@ -143,7 +143,7 @@ def test_restart_is_bit_exact_with_escaped_records(tmp_path):
         sim.unstable_fraction = 0.05
         fp = sim.fluid.particles
         fp["x"][5] = (-0.14, 0.1)                # wall, at the start
-        fp["x"][10] = (0.45, 0.40)               # overtopped, over the right wall at ~0.06 s
+        fp["x"][10] = (0.6, 0.40)                # overtopped, over the right wall at ~0.07 s
         fp["v"][10] = (3.0, 1.0)
         return sim
 
@@ -164,7 +164,7 @@ def test_restart_is_bit_exact_with_escaped_records(tmp_path):
 
 def test_checkpoints_without_reasons_still_load(tmp_path):
     sim = small_tank()
-    sim.fluid.particles["x"][10] = (0.7, 0.40)   # outside the hull: removed at the start
+    sim.fluid.particles["x"][10] = (0.25, -0.3)  # outside the hull, under the floor: removed at the start
     sim.run_steps(1)
     path = tmp_path / "old.h5"
     sim.save_checkpoint(str(path))
@@ -182,15 +182,15 @@ def test_escaped_csv_has_a_reason_column(tmp_path):
     sim.unstable_fraction = 0.05
     fp = sim.fluid.particles
     fp["x"][5] = (-0.14, 0.1)
-    fp["x"][10] = (0.7, 0.40)                    # beyond the right wall, above its crest (0.3 m)
-    fp["x"][12] = (0.7, 0.10)                    # beyond it, far below the crest: not over it
+    fp["x"][10] = (0.9, 0.40)                    # beyond the right wall, above its crest (0.3 m)
+    fp["x"][12] = (0.25, -0.3)                   # under the floor: through it, not over a wall
     sim.run_steps(1)
     path = tmp_path / "escaped.csv"
     _write_escaped(str(path), sim)
     lines = path.read_text().splitlines()
     assert lines[0] == "time,id,x,y,side,reason"
     rows = sorted(line.split(",")[-2:] for line in lines[1:])
-    assert rows == [["inside", "wall"], ["x+", "domain"], ["x+", "overtopped"]]
+    assert rows == [["inside", "wall"], ["x+", "overtopped"], ["y-", "domain"]]
 
 
 def test_summary_counts_escapes_by_reason(tmp_path, capsys):
@@ -281,3 +281,21 @@ def test_wall_guard_codes_equal_those_of_the_full_search():
                          wall.cells.reach_mask(g), g.lo, g.inv_cell, g.ncell, sim.physics.support2, wall.spacing, s)
     assert np.count_nonzero(s < -depth) > 5
     assert np.array_equal(codes == WALL, s < -depth)
+
+
+def test_an_open_tanks_crest_and_back_are_surfaces_and_its_wall_still_catches_a_leak():
+    # the small tank: dx 0.05, 3 layers, open walls 0.3 m high and 6 layers (0.3 m) thick
+    from seawall.health import DOMAIN, OVERTOPPED
+
+    sim = small_tank()
+    support = sim.kernel.support(sim.h)          # 0.13 m
+    fp = sim.fluid.particles
+    fp["x"][0] = (-0.15, 0.3 - 0.02)             # landed on the crest, 0.4 dx into it: kept
+    fp["x"][1] = (-0.3 + 0.01, 0.1)              # 0.2 dx into the back face, half way down: kept
+    fp["x"][2] = (-(support + 0.005), 0.1)       # through the inner face, deeper than the support: a leak
+    fp["x"][3] = (-0.3 - 0.01, 0.1)              # out past the back face, half way down: down the back
+    fp["x"][4] = (0.25, -0.16)                   # out under the floor (0.15 m thick): domain
+    codes = sim._guard_codes()
+    assert codes[0] == KEEP and codes[1] == KEEP
+    assert codes[2] == WALL
+    assert codes[3] == OVERTOPPED and codes[4] == DOMAIN

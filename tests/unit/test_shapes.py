@@ -135,17 +135,16 @@ def test_tank_geometry(lo, hi, open_top):
     diff = sp - pos
     dist = np.linalg.norm(diff, axis=1)
     np.testing.assert_allclose(nrm, diff / dist[:, None], atol=1e-12)
-    # (an open tank's floor reaches under its walls' back halves: the corners there are layers away
-    # from the floor and the side)
-    assert lay.min() == 0 and lay.max() == (2 * layers - 1 if open_top else layers - 1)
+    assert lay.min() == 0 and lay.max() == layers - 1
 
-    # an open tank's side walls are 2 * layers thick; each particle above the floor takes the nearest of
+    # an open tank's side walls are 2 * layers thick; each of their particles takes the nearest of
     # the inner face, the crest (hi_last) and the back face, a tie the edge between them
     side_surface = np.zeros(w.n, dtype=bool)
     if open_top:
         thick = 2 * layers * dx
-        beside = np.any((pos[:, :-1] < lo[:-1]) | (pos[:, :-1] > hi[:-1]), axis=1) & (pos[:, -1] > lo[-1])
-        inner = np.linalg.norm(pos[:, :-1] - np.clip(pos[:, :-1], lo[:-1], hi[:-1]), axis=1)
+        # (the side walls down to the floor's underside: the back face runs down past the floor)
+        beside = np.any((pos[:, :-1] < lo[:-1]) | (pos[:, :-1] > hi[:-1]), axis=1)
+        inner = np.linalg.norm(pos - np.clip(pos, lo, hi), axis=1)
         crest = hi[-1] - pos[:, -1]
         back = np.min(np.concatenate([pos[:, :-1] - (lo[:-1] - thick), (hi[:-1] + thick) - pos[:, :-1]], axis=1),
                       axis=1)
