@@ -44,7 +44,12 @@ the collapse reach 1.38 dx (docs/boundaries.md, measured).
 
 **Hull.** Derived from the walls unless the case gives one: with gravity
 along an axis, the box spanned by the wall particles, grown by dx/2 to the
-walls' outer faces, across gravity (every non-periodic axis but gravity's),
+walls' outer faces, across gravity (every non-periodic axis but gravity's;
+where the outermost particles are a back face, whose normals point outwards,
+as an open tank's, the hull ends at their centres: water that has gone over
+the crest and reached the back of the wall is out, before a wall model that
+pulls water, as Adami's extrapolation of a negative pressure does, can hold
+it to the outside of the wall),
 bounded below along gravity by the lowest wall particle's outer face and
 open above, so a splash rising above an open tank
 and falling back in is kept. No gravity, gravity off the axes, or no walls:
@@ -126,6 +131,12 @@ def derive_hull(walls, gravity, periodic, dx):
     lo = np.min([p.min(axis=0) for p in pos], axis=0) - 0.5 * dx
     hi = np.max([p.max(axis=0) for p in pos], axis=0) + 0.5 * dx
     for k in range(dim):
+        if k == axis:
+            continue
+        for side, bound in ((-1.0, lo), (1.0, hi)):
+            if _back_face(walls, k, side, bound[k] - side * 0.5 * dx, dx):
+                bound[k] -= side * 0.5 * dx
+    for k in range(dim):
         if periodic[k]:
             lo[k], hi[k] = -math.inf, math.inf
     if gravity[axis] < 0:
@@ -133,6 +144,20 @@ def derive_hull(walls, gravity, periodic, dx):
     else:
         lo[axis] = -math.inf
     return lo, hi
+
+
+def _back_face(walls, k, side, level, dx):
+    """Whether the outermost wall particles along axis ``k`` on ``side`` (at ``level``) face outwards:
+    a back face (an open tank's, seawall.shapes.tank), whose particles' normals point away from
+    the walls' interior."""
+    facing = total = 0
+    for w in walls:
+        if not w.n or "normal" not in w.particles:
+            continue
+        at = np.abs(w.x[:, k] - level) <= 1e-6 * dx
+        total += int(np.count_nonzero(at))
+        facing += int(np.count_nonzero(side * w.particles["normal"][at, k] > 0.5))
+    return total > 0 and facing == total
 
 
 def parse_hull(hull, dim):

@@ -60,8 +60,8 @@ def test_particle_over_the_side_wall_is_overtopped_once_outside_the_hull():
     fp = sim.fluid.particles
     lo, hi = sim.hull_box()
     wall_x = sim.walls[0].x
-    # the walls' outer faces: particle extent + dx/2
-    assert hi[0] == pytest.approx(wall_x[:, 0].max() + 0.025) and lo[0] == pytest.approx(wall_x[:, 0].min() - 0.025)
+    # an open tank's walls have a back face: the hull ends at its particles' centres (seawall.health)
+    assert hi[0] == pytest.approx(wall_x[:, 0].max()) and lo[0] == pytest.approx(wall_x[:, 0].min())
     assert hi[1] == np.inf and lo[1] == pytest.approx(wall_x[:, 1].min() - 0.025)
     over, splash = int(fp["id"][10]), int(fp["id"][25])
     fp["x"][10] = (0.45, 0.40)                   # above the right wall (0.3 m high), thrown over it
@@ -291,9 +291,9 @@ def test_an_open_tanks_crest_and_back_are_surfaces_and_its_wall_still_catches_a_
     support = sim.kernel.support(sim.h)          # 0.13 m
     fp = sim.fluid.particles
     fp["x"][0] = (-0.15, 0.3 - 0.02)             # landed on the crest, 0.4 dx into it: kept
-    fp["x"][1] = (-0.3 + 0.01, 0.1)              # 0.2 dx into the back face, half way down: kept
+    fp["x"][1] = (-0.3 + 0.04, 0.1)              # 0.8 dx into the back face, half way down: kept
     fp["x"][2] = (-(support + 0.005), 0.1)       # through the inner face, deeper than the support: a leak
-    fp["x"][3] = (-0.3 - 0.01, 0.1)              # out past the back face, half way down: down the back
+    fp["x"][3] = (-0.3 + 0.02, 0.1)              # past the back face's particles, half way down: down the back
     fp["x"][4] = (0.25, -0.16)                   # out under the floor (0.15 m thick): domain
     codes = sim._guard_codes()
     assert codes[0] == KEEP and codes[1] == KEEP

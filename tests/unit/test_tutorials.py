@@ -68,6 +68,32 @@ def test_your_own_probe(tmp_path):
     assert probes["wall_force:tank:fy"][0] < 0.0
 
 
+def test_overtopping_a_seawall(tmp_path):
+    # long enough at dx = 0.05 m for the bore to reach the seawall and load it (its front is at the
+    # toe, 1.6 m, at about 0.3 s), so the TOML and Python builds are compared on a force, not on zeros
+    settings = {**SMALL, "run": ["--dx", "0.05", "--t-end", "0.6", "--no-progress"]}
+    steps = run_tutorial("overtopping-a-seawall.md", tmp_path, settings)
+    said = dict(steps)
+    assert re.search(r"crest\b.*0\.2.*\bm\b", said["seawall cases seawall.toml"])
+    for model in ("adami", "dbc", "mdbc"):
+        summary = json.loads((tmp_path / "runs" / model / "summary.json").read_text())
+        assert summary["status"] == "completed" and summary["walls"].keys() == {"tank", "seawall"}
+        assert summary["probe_units"]["q_crest"] == "m^2" and summary["probe_units"]["q_crest_rate"] == "m^2/s"
+        assert abs(summary["mass_drift"]) < 1e-12
+        t, probes = read_probes_csv(str(tmp_path / "runs" / model / "probes.csv"))
+        assert probes["F_seawall"].max() > 1.0              # the bore pushes the seawall landwards [N/m]
+    printed = "".join(out for what, out in steps)
+    assert printed.count("peak force on the seawall") == 3
+    assert (tmp_path / "runs" / "dbc" / "discharge.csv").exists()
+    # the seawall of the case file and of the Python module: one simulation, the same force to round-off
+    t_toml, toml = read_probes_csv(str(tmp_path / "runs" / "dbc" / "probes.csv"))
+    t_py, py = read_probes_csv(str(tmp_path / "runs" / "dbc-python" / "probes.csv"))
+    np.testing.assert_array_equal(t_toml, t_py)
+    assert np.abs(toml["F_seawall"]).max() > 1.0
+    np.testing.assert_allclose(py["F_seawall"], toml["F_seawall"], rtol=0, atol=1e-9 * np.abs(toml["F_seawall"]).max())
+    assert "largest difference of the force on the seawall, TOML against Python" in printed
+
+
 def test_api_reference_builds_without_warnings(tmp_path):
     """python docs/build_api.py: every public module renders and pdoc raises no warning."""
     pytest.importorskip("pdoc", reason="pdoc not installed (pip install -e '.[test]' or '.[docs]')")
