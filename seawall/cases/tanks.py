@@ -199,9 +199,10 @@ HYDROSTATIC = Case(
 
 # ---------------------------------------------------------------- dam break 2D
 #: tank height of the dam breaks in H: the experiments' tanks are 2 H high (Lobovsky et
-#: al. 2014: 0.6 m for H = 0.3 m). Open, the run-up jet overtops it: 18 of 5000 particles
-#: lost at dx = H/50 (adami, 1.5 s); a wall 4 H high still lost 3, the thin jet climbing
-#: past 1.2 m at 0.79 s. So the default tank is closed by a lid (``lid``) at this height.
+#: al. 2014: 0.6 m for H = 0.3 m). Open, the thin run-up jet goes over the crest (past
+#: 1.2 m at 0.79 s at dx = H/50), and what leaves is counted ``overtopped``
+#: (docs/overtopping.md); the experiments' pressures are those of the closed tank, so the
+#: default tank is closed by a lid (``lid``) at this height.
 TANK_HEIGHT = 2.0
 
 
@@ -214,7 +215,7 @@ def _tank_height(params, H, dx):
 
 TANK_PARAMETERS = {
     "tank_height": Parameter(TANK_HEIGHT, "tank wall height / H (2 = the experiments' tank)"),
-    "lid": Parameter(True, "close the tank with a lid at tank_height (false: open, the run-up jet overtops it)",
+    "lid": Parameter(True, "close the tank with a lid at tank_height (false: open, the run-up jet goes over its crest)",
                      bool),
 }
 
