@@ -41,22 +41,16 @@ REASONS = ("domain", "wall", "unstable", "overtopped")
 
 
 @njit(cache=True)
-def nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2):
-    """Index of the wall particle nearest to the point (p0, p1, p2) within sqrt(radius2), else -1.
-
-    The search visits the 5^d cells around the point's cell (cells at least
-    radius / 2 wide). ``reach`` (uint8 per cell, ``CellList.reach_mask``)
-    marks the cells with a wall particle in their 5^d neighbourhood; a point
-    elsewhere returns -1 without a search, which keeps the cost to the fluid
-    near walls.
-    """
+def _walk_wall_cells(p0, p1, p2, dim, xw, nw, sw, start, order, lo, inv_cell, ncell, radius2, limit2):
+    """One walk over the wall particles in the 5^d cells around the point (p0, p1, p2): the index of
+    the nearest within sqrt(radius2) (-1 if none) and, when ``limit2`` >= 0, the largest surface-plane
+    distance (x - s_b) . n_b of those within sqrt(limit2) (-inf if none; ``nw``, ``sw`` unread else)."""
     c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
     c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
     c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
-    if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
-        return -1
     best = radius2
     b_best = -1
+    plane = -np.inf
     zr = 2 if dim == 3 else 0
     for oz in range(-zr, zr + 1):
         cz = c2 + oz
@@ -82,6 +76,31 @@ def nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell
                     if r2 < best:
                         best = r2
                         b_best = b
+                    if r2 <= limit2:
+                        s = (p0 - sw[b, 0]) * nw[b, 0] + (p1 - sw[b, 1]) * nw[b, 1]
+                        if dim == 3:
+                            s += (p2 - sw[b, 2]) * nw[b, 2]
+                        if s > plane:
+                            plane = s
+    return b_best, plane
+
+
+@njit(cache=True)
+def nearest_wall_particle(p0, p1, p2, dim, xw, start, order, reach, lo, inv_cell, ncell, radius2):
+    """Index of the wall particle nearest to the point (p0, p1, p2) within sqrt(radius2), else -1.
+
+    The search visits the 5^d cells around the point's cell (cells at least
+    radius / 2 wide). ``reach`` (uint8 per cell, ``CellList.reach_mask``)
+    marks the cells with a wall particle in their 5^d neighbourhood; a point
+    elsewhere returns -1 without a search, which keeps the cost to the fluid
+    near walls.
+    """
+    c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
+    c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
+    c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
+    if reach.size and reach[c0 + ncell[0] * (c1 + ncell[1] * c2)] == 0:
+        return -1
+    b_best, _ = _walk_wall_cells(p0, p1, p2, dim, xw, xw, xw, start, order, lo, inv_cell, ncell, radius2, -1.0)
     return b_best
 
 
@@ -110,41 +129,9 @@ def wall_surface_distance(p0, p1, p2, dim, xw, nw, sw, start, order, reach, lo, 
         d2 = p2 - xw[b_near, 2]
         r2 += d2 * d2
     limit = np.sqrt(r2) + slack
-    limit2 = limit * limit
-    best = -np.inf
-    c0 = min(max(int((p0 - lo[0]) * inv_cell[0]), 0), ncell[0] - 1)
-    c1 = min(max(int((p1 - lo[1]) * inv_cell[1]), 0), ncell[1] - 1)
-    c2 = min(max(int((p2 - lo[2]) * inv_cell[2]), 0), ncell[2] - 1)
-    zr = 2 if dim == 3 else 0
-    for oz in range(-zr, zr + 1):
-        cz = c2 + oz
-        if cz < 0 or cz >= ncell[2]:
-            continue
-        for oy in range(-2, 3):
-            cy = c1 + oy
-            if cy < 0 or cy >= ncell[1]:
-                continue
-            for ox in range(-2, 3):
-                cx = c0 + ox
-                if cx < 0 or cx >= ncell[0]:
-                    continue
-                cell = cx + ncell[0] * (cy + ncell[1] * cz)
-                for kk in range(start[cell], start[cell + 1]):
-                    b = order[kk]
-                    d0 = p0 - xw[b, 0]
-                    d1 = p1 - xw[b, 1]
-                    r2 = d0 * d0 + d1 * d1
-                    if dim == 3:
-                        d2 = p2 - xw[b, 2]
-                        r2 += d2 * d2
-                    if r2 > limit2:
-                        continue
-                    s = (p0 - sw[b, 0]) * nw[b, 0] + (p1 - sw[b, 1]) * nw[b, 1]
-                    if dim == 3:
-                        s += (p2 - sw[b, 2]) * nw[b, 2]
-                    if s > best:
-                        best = s
-    return best
+    _, plane = _walk_wall_cells(p0, p1, p2, dim, xw, nw, sw, start, order, lo, inv_cell, ncell, radius2,
+                                limit * limit)
+    return plane
 
 
 @particle_loop(fastmath=False)

@@ -344,16 +344,21 @@ def _filled(points, x, volume, kernel, h):
     return out
 
 
-def write_sensor_csv(path, times, columns):
-    """sensors.csv: time, then one column per sensor (``sensor:<k>``, Pa) and gauge (``gauge:<k>``, m)."""
+def _write_time_columns(path, times, columns, digits):
+    """A CSV of ``time`` and the named columns, one row per time, ``digits`` significant digits."""
     from .io.vtk import _atomic_write
 
     names = list(columns)
     with _atomic_write(path, "w") as fh:
         fh.write(",".join(["time", *names]) + "\n")
         for f, t in enumerate(times):
-            fh.write(",".join([f"{t:.9g}", *(f"{columns[n][f]:.9g}" for n in names)]) + "\n")
+            fh.write(",".join([f"{t:.{digits}g}", *(f"{columns[n][f]:.{digits}g}" for n in names)]) + "\n")
     return path
+
+
+def write_sensor_csv(path, times, columns):
+    """sensors.csv: time, then one column per sensor (``sensor:<k>``, Pa) and gauge (``gauge:<k>``, m)."""
+    return _write_time_columns(path, times, columns, 9)
 
 
 def write_sample_csv(path, times, points, result):
@@ -463,11 +468,4 @@ def discharge_series(run_dir, start, end):
 
 def write_discharge_csv(path, times, columns):
     """discharge.csv: time, volume (passed since the first frame), fluid_beyond, removed_beyond [m^2 in 2D]."""
-    from .io.vtk import _atomic_write
-
-    names = list(columns)
-    with _atomic_write(path, "w") as fh:
-        fh.write(",".join(["time", *names]) + "\n")
-        for f, t in enumerate(times):
-            fh.write(",".join([f"{t:.17g}", *(f"{columns[n][f]:.17g}" for n in names)]) + "\n")
-    return path
+    return _write_time_columns(path, times, columns, 17)
