@@ -11,8 +11,10 @@ the setting with which it holds the *closed* tank: the first of its rows in the 
 (``validation/leaks/results_H50.json``; plain model first, then its option variants) that
 completed with no particle through a wall (none removed as ``wall`` or ``domain``; the density
 guard's removals in the jet, ``unstable``, are allowed there). Each run is a ``seawall run``
-process (``--no-vtk``) with a discharge section on the downstream wall's outer face, from the
-crest upwards (``--discharge``, counted +x every step). Per model it records the status and the
+process (``--no-vtk``) with a discharge section across the middle of the downstream wall's
+crest, from one kernel support below the crest up to 2 H (``--discharge``, counted +x every
+step): what crossed it has left the tank over the wall's back, or stands on the crest's outer
+half at the end. Per model it records the status and the
 time reached, the removals per reason (``escaped_by_reason``) and their mass
 (``escaped_mass_by_reason``), the mass balance (``mass_drift``: (mass now + removed - start) /
 start), the overtopped volume per metre from the removals (mass / rho0) and from the discharge
@@ -71,25 +73,30 @@ def _key(model, options):
 
 
 def _case_geometry(dx):
-    """The downstream wall's inner face, outer face and crest at this dx (seawall.cases.tanks)."""
+    """The downstream wall's inner face, the middle of its crest, the crest's height and one kernel
+    support at this dx (seawall.cases.tanks: the open tank's side walls are 2 * layers thick)."""
     from seawall.cases.base import wall_layers
     from seawall.cases.tanks import snap
     from seawall.kernels import CubicSpline
 
+    kernel, h = CubicSpline(), 1.3 * dx
     length = snap(5.366 * H, dx)
     crest = snap(TANK_HEIGHT * H, dx)
-    outer = length + wall_layers(CubicSpline(), 1.3 * dx, dx) * dx
-    return length, outer, crest
+    middle = length + wall_layers(kernel, h, dx) * dx
+    return length, middle, crest, kernel.support(h)
 
 
 def run_model(model, options, resolution, out, threads=1):
     dx = H / resolution
-    _, outer, crest = _case_geometry(dx)
+    _, middle, crest, support = _case_geometry(dx)
+    # the section: across the middle of the downstream wall's crest, from one support below the crest
+    # (water that runs along the crest a little inside its surface) up to 2 H
+    bottom = crest - support
     run_dir = os.path.join(out, f"H{resolution}", _key(model, options).replace(" ", "_"))
     cmd = [sys.executable, "-m", "seawall", "run", "dam-break", "--boundary", model, "--dx", repr(dx),
            "--t-end", repr(T_END), "--out", run_dir, "--overwrite", "--no-vtk", "--no-progress",
            "--threads", str(threads), "--set", "lid=false", "--set", f"tank_height={TANK_HEIGHT}",
-           "--discharge", f"{outer!r},{crest!r}:{outer!r},{2.0 * H!r}:over_crest"]
+           "--discharge", f"{middle!r},{bottom!r}:{middle!r},{2.0 * H!r}:over_crest"]
     for k, v in sorted(options.items()):
         cmd += ["--set", f"{k}={v}"]
     env = {**os.environ, "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
