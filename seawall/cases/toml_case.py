@@ -331,7 +331,8 @@ def case_from_toml(path):
         else:
             dim = len(data["tank"]["lo"]) if isinstance(data["tank"]["lo"], list) else 0
         if mesh_files and dim != 3:
-            raise _Bad(f"[[wall]] number {mesh_files[0]} is a mesh wall, which is 3D: the tank needs 3 coordinates")
+            raise _Bad(f"[[wall]] number {mesh_files[0]}: mesh walls are 3D: the tank needs 3 coordinates "
+                       "(a 2D structure is given by its outline, points = [[x, y], ...])")
         if outlines and dim != 2:
             raise _Bad(f"[[wall]] number {outlines[0]} is a 2D outline (points): the tank needs 2 coordinates")
         if dim not in (2, 3):

@@ -72,9 +72,15 @@ def test_run_writes_contract_files(tmp_path, capsys):
     from seawall.io import read_vtu
     wx, wdata = read_vtu(str(out_dir / "wall_tank_00000.vtu"))
     assert {"normal", "mirror_point", "pressure"} <= set(wdata)
-    # every mirror point lies inside the tank (0 < x < 0.5, y > 0)
+    # every mirror point of a particle facing the water lies inside the tank (0 < x < 0.5, y > 0); the
+    # open tank's back faces mirror behind it
     mp = wdata["mirror_point"]
-    assert mp[:, 0].min() > 0 and mp[:, 0].max() < 0.5 and mp[:, 1].min() > 0
+    n = wdata["normal"]
+    sides = (np.abs(n[:, 0]) > 0.99) & (n[:, 0] * (0.25 - wx[:, 0]) > 0)          # facing into the tank
+    floor = (n[:, 1] > 0.99) & (wx[:, 0] > 0) & (wx[:, 0] < 0.5) & (wx[:, 1] < 0)  # under the water
+    face = sides | floor
+    assert sides.any() and floor.any()
+    assert mp[face, 0].min() > 0 and mp[face, 0].max() < 0.5 and mp[face, 1].min() > 0
     assert "M particle-steps/s" in out
 
 

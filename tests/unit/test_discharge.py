@@ -130,10 +130,12 @@ def test_crest_section_of_an_open_tank():
     sim.add(probe)
     x = sim.walls[0].particles["x"]
     top = x[:, 1].max()
-    right = x[x[:, 1] == top, 0].max()
-    # the right side's top row: three layers, the section at the middle one, from the top up to the domain top
+    row = x[(x[:, 1] == top) & (x[:, 0] > 1.0), 0]
+    # the right side's top row (six layers: an open tank's walls are twice as thick), the section at its
+    # middle, from the top up to the domain top
     assert probe.start[1] == top and probe.end[1] == sim.grid.hi[1]
-    assert probe.start[0] == pytest.approx(right - 0.02) and probe.end[0] == probe.start[0]
+    assert row.size == 6
+    assert probe.start[0] == pytest.approx(0.5 * (row.min() + row.max())) and probe.end[0] == probe.start[0]
     left = Discharge.over_crest("back", "tank", direction=-1)
     sim.add(left)
     assert left.start[0] < 0 and left.start[1] == sim.grid.hi[1] and left.end[1] == top

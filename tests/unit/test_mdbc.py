@@ -83,14 +83,15 @@ def test_corrected_interpolation_falls_back_to_shepard():
 
 
 def _tank(model, dim=2, slope=None, velocity=None):
-    """Still-water box in a 3-layer tank (dx = 0.01 m), fluid density set to a linear field."""
+    """Still-water box in a closed 3-layer tank (dx = 0.01 m), fluid density set to a linear field
+    (closed: an open tank's back faces mirror behind the tank, where there is no water to read)."""
     dx = 0.01
     if dim == 2:
         fluid = sw.FluidSystem(sw.shapes.rectangle((0, 0), (0.2, 0.1), dx), rho0=RHO0, eos=sw.Tait(c0=20.0))
-        wall = sw.WallSystem(sw.shapes.tank((0, 0), (0.2, 0.15), dx), model=model)
+        wall = sw.WallSystem(sw.shapes.tank((0, 0), (0.2, 0.15), dx, open_top=False), model=model)
     else:
         fluid = sw.FluidSystem(sw.shapes.box((0, 0, 0), (0.1, 0.08, 0.06), dx), rho0=RHO0, eos=sw.Tait(c0=20.0))
-        wall = sw.WallSystem(sw.shapes.tank((0, 0, 0), (0.1, 0.08, 0.1), dx), model=model)
+        wall = sw.WallSystem(sw.shapes.tank((0, 0, 0), (0.1, 0.08, 0.1), dx, open_top=False), model=model)
     sim = sw.Simulation([fluid, wall], h=1.3 * dx, gravity=(0, -9.81) if dim == 2 else (0, 0, -9.81))
     fp = fluid.particles
     if slope is not None:
