@@ -12,8 +12,8 @@ the setting with which it holds the *closed* tank: the first of its rows in the 
 completed with no particle through a wall (none removed as ``wall`` or ``domain``; the density
 guard's removals in the jet, ``unstable``, are allowed there). Each run is a ``seawall run``
 process (``--no-vtk``) with a discharge section across the middle of the downstream wall's
-crest, from one kernel support below the crest up to 2 H (``--discharge``, counted +x every
-step): what crossed it has left the tank over the wall's back, or stands on the crest's outer
+crest, from one kernel support below the crest up past the domain's top (``--discharge``,
+counted +x every step): what crossed it has left the tank over the wall's back, or stands on the crest's outer
 half at the end. Per model it records the status and the
 time reached, the removals per reason (``escaped_by_reason``) and their mass
 (``escaped_mass_by_reason``), the mass balance (``mass_drift``: (mass now + removed - start) /
@@ -90,13 +90,15 @@ def run_model(model, options, resolution, out, threads=1):
     dx = H / resolution
     _, middle, crest, support = _case_geometry(dx)
     # the section: across the middle of the downstream wall's crest, from one support below the crest
-    # (water that runs along the crest a little inside its surface) up to 2 H
+    # (water that runs along the crest a little inside its surface) up past the domain's top (the
+    # run-up jet climbs far above the crest before it falls over it)
     bottom = crest - support
+    ceiling = 100.0 * H
     run_dir = os.path.join(out, f"H{resolution}", _key(model, options).replace(" ", "_"))
     cmd = [sys.executable, "-m", "seawall", "run", "dam-break", "--boundary", model, "--dx", repr(dx),
            "--t-end", repr(T_END), "--out", run_dir, "--overwrite", "--no-vtk", "--no-progress",
            "--threads", str(threads), "--set", "lid=false", "--set", f"tank_height={TANK_HEIGHT}",
-           "--discharge", f"{middle!r},{bottom!r}:{middle!r},{2.0 * H!r}:over_crest"]
+           "--discharge", f"{middle!r},{bottom!r}:{middle!r},{ceiling!r}:over_crest"]
     for k, v in sorted(options.items()):
         cmd += ["--set", f"{k}={v}"]
     env = {**os.environ, "PYTHONPATH": ROOT + os.pathsep + os.environ.get("PYTHONPATH", "")}
