@@ -153,7 +153,8 @@ def build_parser():
                      help="fluid volume that has crossed the section from (x0, y0) to (x1, y1), counted every step "
                           "(positive towards the side of end - start turned clockwise: +x for a section drawn "
                           "upwards): columns NAME [m^2 per metre] and NAME_rate [m^2/s] in probes.csv (default "
-                          "NAME discharge:<k>; 2D runs; repeatable)")
+                          "NAME discharge:<k>; repeatable); in 3D x0,y0,z0:x1,y1,z1, the opposite corners of a "
+                          "rectangle normal to the axis they share, positive along + that axis [m^3, m^3/s]")
     run.add_argument("--wall-force", action="append", metavar="NAME",
                      help="the fluid's force on the wall system NAME: columns wall_force:NAME:fx, :fy[, :fz] in "
                           "probes.csv [N, per metre of depth in 2D] (repeatable)")
@@ -653,8 +654,9 @@ def parse_section(option, text, name=False):
         start, end = ([float(c) for c in part.split(",")] for part in parts[:2])
     except ValueError:
         raise ParameterError(f"{option} must look like {form}, got {text!r}") from None
-    if len(start) != 2 or len(end) != 2 or not all(math.isfinite(c) for c in start + end):
-        raise ParameterError(f"{option} {text!r}: start and end need 2 finite coordinates each (sections are 2D)")
+    if len(start) not in (2, 3) or len(end) != len(start) or not all(math.isfinite(c) for c in start + end):
+        raise ParameterError(f"{option} {text!r}: start and end need 2 finite coordinates each (3 for a 3D "
+                             f"rectangle's corners)")
     if start == end:
         raise ParameterError(f"{option} {text!r}: start and end are the same point")
     label = parts[2] if len(parts) == 3 else None
@@ -671,8 +673,9 @@ def _add_discharge(sim, case, k, text):
     start, end, name = parse_section("--discharge", text, name=True)
     if not hasattr(sim, "fluid"):
         raise ParameterError(f"--discharge: case {case.name!r} has no fluid to count")
-    if sim.dim != 2:
-        raise ParameterError(f"--discharge: sections are 2D segments, case {case.name!r} is {sim.dim}D")
+    if len(start) != sim.dim:
+        raise ParameterError(f"--discharge {text!r}: case {case.name!r} is {sim.dim}D, the section has {len(start)} "
+                             f"coordinates")
     try:
         sim.add(Discharge(name or f"discharge:{k}", start, end))
     except ParameterError as exc:

@@ -21,7 +21,8 @@ means the same thing whatever wall model is used:
 * :class:`SurgeFront` -- largest coordinate of any fluid particle along an axis.
 * :class:`KineticEnergy`, :class:`TotalMass`.
 * :class:`Discharge` -- the fluid volume that has crossed a section, a
-  segment from ``start`` to ``end`` (2D runs), counted at every step, and
+  segment from ``start`` to ``end`` (2D) or a rectangle normal to an axis
+  with opposite corners ``start`` and ``end`` (3D), counted at every step, and
   its companion column ``<name>_rate``, the discharge over the last probe
   interval. Positive flow crosses towards the side obtained by rotating
   end - start clockwise by 90 degrees (a section drawn bottom to top counts
@@ -561,25 +562,60 @@ def crossed_mass(x_before, x_after, m, x0, y0, ex, ey):
     return total
 
 
+@njit(cache=True)
+def crossed_mass_rectangle(x_before, x_after, m, axis, level, lo, hi):
+    """Signed mass of the particles whose path crossed the rectangle x[axis] = level, lo <= x <= hi on
+    the two other axes, in a step (3D): +m where the particle ends on the side x[axis] > level, -m on
+    the other, counted when its side changes where its straight path meets the plane within the
+    rectangle."""
+    a = (axis + 1) % 3
+    b = (axis + 2) % 3
+    total = 0.0
+    for i in range(x_after.shape[0]):
+        s0 = x_before[i, axis] - level
+        s1 = x_after[i, axis] - level
+        before = s0 > 0.0
+        after = s1 > 0.0
+        if before == after:
+            continue
+        t = s0 / (s0 - s1)      # s0 != s1: the sides differ
+        pa = x_before[i, a] + t * (x_after[i, a] - x_before[i, a])
+        pb = x_before[i, b] + t * (x_after[i, b] - x_before[i, b])
+        if pa < lo[a] or pa > hi[a] or pb < lo[b] or pb > hi[b]:
+            continue
+        total += m[i] if after else -m[i]
+    return total
+
+
 def _section_point(name, what, value):
     try:
         p = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         p = np.zeros(0)
-    if p.shape == (3,):
-        raise ParameterError(f"discharge {name!r}: {what} has 3 coordinates; sections are 2D segments (x, y), "
-                             f"3D runs have no discharge probe")
-    if p.shape != (2,) or not np.all(np.isfinite(p)):
-        raise ParameterError(f"discharge {name!r}: {what} must be 2 finite coordinates (x, y), got {value!r}")
+    if p.shape not in ((2,), (3,)) or not np.all(np.isfinite(p)):
+        raise ParameterError(f"discharge {name!r}: {what} must be 2 (x, y) or 3 (x, y, z) finite coordinates, "
+                             f"got {value!r}")
     return p
+
+
+def _rectangle_axis(name, start, end):
+    """The axis a 3D section is normal to: the one coordinate its two corners share."""
+    same = [k for k in range(3) if start[k] == end[k]]
+    if len(same) != 1:
+        raise ParameterError(f"discharge {name!r}: a 3D section is a rectangle normal to an axis: its corners "
+                             f"{start.tolist()} and {end.tolist()} must share exactly one coordinate")
+    return same[0]
 
 
 class Discharge(Probe):
     """Fluid volume that has crossed a section since the start [m^3; m^2 per metre in 2D], counted every step.
 
-    The section is the segment from ``start`` to ``end`` (2D runs only; a 3D run refuses it).
-    Positive flow crosses towards the side obtained by rotating end - start clockwise by 90
-    degrees, so a section drawn bottom to top counts flow in +x as positive. At every step a
+    In 2D the section is the segment from ``start`` to ``end``: positive flow crosses towards the
+    side obtained by rotating end - start clockwise by 90 degrees, so a section drawn bottom to
+    top counts flow in +x as positive. In 3D it is the rectangle with opposite corners ``start``
+    and ``end``, which share one coordinate (the axis it is normal to): x = 1 m, 0 <= y <= 0.5 m,
+    0 <= z <= 0.4 m is ``start=(1, 0, 0), end=(1, 0.5, 0.4)``; positive flow goes along + that
+    axis. At every step a
     fluid particle whose side of the section's line changes, where its straight path from its
     position before the step to the one after it meets the line within the segment, adds
     +-m / rho0 (rho0 the fluid's reference density): the count is of mass, so volume is conserved
@@ -599,7 +635,7 @@ class Discharge(Probe):
     name : str
         Column name (the rate is ``name + "_rate"``).
     start, end : sequence of float
-        The section's end points (x, y) [m].
+        The section's end points (x, y) in 2D, its opposite corners (x, y, z) in 3D [m].
     crest, direction
         Instead of start and end: the section over the crest of this wall (:meth:`over_crest`).
     """
@@ -622,6 +658,7 @@ class Discharge(Probe):
             self.crest = crest
             self.direction = int(direction)
             self.start = self.end = None
+            self.axis = None
         else:
             if start is None or end is None:
                 raise ParameterError(f"discharge {name!r}: needs start and end (or a crest)")
@@ -644,8 +681,12 @@ class Discharge(Probe):
         return cls(name, crest=wall, direction=direction)
 
     def _set_section(self, start, end):
+        if start.shape != end.shape:
+            raise ParameterError(f"discharge {self.name!r}: start and end must have the same number of "
+                                 f"coordinates, got {start.tolist()} and {end.tolist()}")
         if np.array_equal(start, end):
             raise ParameterError(f"discharge {self.name!r}: start and end are the same point {start.tolist()}")
+        self.axis = _rectangle_axis(self.name, start, end) if start.shape == (3,) else None
         self.start = start
         self.end = end
 
@@ -656,10 +697,14 @@ class Discharge(Probe):
         """Check the run and place a crest section (called by ``Simulation.add``)."""
         if not hasattr(sim, "fluid"):
             raise ParameterError(f"discharge {self.name!r}: the run has no fluid")
-        if sim.dim != 2:
-            raise ParameterError(f"discharge {self.name!r}: sections are 2D segments; the run is {sim.dim}D")
+        if self.crest is not None and sim.dim != 2:
+            raise ParameterError(f"discharge {self.name!r}: a crest section is a 2D segment; the run is {sim.dim}D "
+                                 f"(give the corners of a rectangle, start and end)")
         self.rho0 = float(sim.fluid.rho0)
         if self.crest is None:
+            if self.start.shape[0] != sim.dim:
+                raise ParameterError(f"discharge {self.name!r}: the section has {self.start.shape[0]} coordinates, "
+                                     f"the run is {sim.dim}D")
             return
         walls = {w.name: w for w in sim.walls}
         if self.crest not in walls:
@@ -701,6 +746,11 @@ class Discharge(Probe):
         x = fp["x"]
         if self._before is None or self._before.shape != x.shape:
             raise RuntimeError(f"discharge {self.name!r}: the fluid changed size within a step")
+        if self.axis is not None:
+            lo, hi = np.minimum(self.start, self.end), np.maximum(self.start, self.end)
+            self.mass += crossed_mass_rectangle(self._before, x, fp["m"], self.axis, float(self.start[self.axis]),
+                                                lo, hi)
+            return
         (x0, y0), (x1, y1) = self.start, self.end
         self.mass += crossed_mass(self._before, x, fp["m"], x0, y0, x1 - x0, y1 - y0)
 

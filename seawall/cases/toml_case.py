@@ -296,8 +296,9 @@ def _discharge_probe(geo, k, p, name, dim, wall_names):
     from ..probes import Discharge
 
     where = f"[[probe]] number {k}"
-    if dim != 2:
-        raise _Bad(f"{where} (discharge): sections are 2D segments, the tank is {dim}D")
+    if dim != 2 and "crest" in p:
+        raise _Bad(f"{where} (discharge): a crest section is 2D; in a {dim}D tank give start and end, the corners "
+                   "of a rectangle normal to an axis")
     try:
         if "crest" not in p:
             return Discharge(name, geo.point(f"{where} start", p["start"], dim),

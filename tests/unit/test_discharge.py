@@ -19,11 +19,12 @@ SECTION_X = 0.8
 
 def fake_sim(x, m, rho0=1000.0):
     """The little of a simulation the probe reads: the fluid's arrays, rho0, the dimension."""
-    pa = ParticleArrays(2)
-    pa.add("x", np.asarray(x, dtype=np.float64))
+    x = np.asarray(x, dtype=np.float64)
+    pa = ParticleArrays(x.shape[1])
+    pa.add("x", x)
     pa.add("m", np.asarray(m, dtype=np.float64))
     pa.add("id", np.arange(len(m)))
-    return SimpleNamespace(fluid=SimpleNamespace(particles=pa, rho0=rho0), dim=2, walls=[])
+    return SimpleNamespace(fluid=SimpleNamespace(particles=pa, rho0=rho0), dim=x.shape[1], walls=[])
 
 
 def step(probe, sim, move):
@@ -92,9 +93,11 @@ def test_state_rate_and_units():
 
 @pytest.mark.parametrize("kwargs, match", [
     ({"start": (0, 0), "end": (0, 0)}, "same point"),
-    ({"start": (0, 0, 0), "end": (0, 1, 0)}, "3 coordinates; sections are 2D"),
-    ({"start": (0, "a"), "end": (0, 1)}, "start must be 2 finite"),
-    ({"start": (0, 0), "end": (np.nan, 1)}, "end must be 2 finite"),
+    ({"start": (0, 0, 0), "end": (0, 1, 0)}, "share exactly one coordinate"),
+    ({"start": (0, 0, 0), "end": (1, 1, 1)}, "share exactly one coordinate"),
+    ({"start": (0, 0, 0), "end": (0, 1)}, "same number of coordinates"),
+    ({"start": (0, "a"), "end": (0, 1)}, "start must be 2 .* or 3"),
+    ({"start": (0, 0), "end": (np.nan, 1)}, "end must be 2 .* or 3"),
     ({"start": (0, 0)}, "needs start and end"),
     ({"crest": "tank", "direction": 2}, "direction must be 1 or -1"),
     ({"crest": "tank", "start": (0, 0)}, "not both"),
@@ -243,7 +246,8 @@ def test_cli_discharge_columns_units_and_the_check_from_frames(tmp_path, capsys)
     (["run", "hydrostatic", "--discharge", "0.1,0:a,1"], "--discharge must look like"),
     (["run", "hydrostatic", "--discharge", "0.1,0:0.1,1:a:b"], "--discharge must look like"),
     (["run", "hydrostatic", "--discharge", "0.1,0:0.1,0"], "--discharge '0.1,0:0.1,0': start and end are the same"),
-    (["run", "hydrostatic", "--discharge", "0,0,0:0,1,0"], "--discharge '0,0,0:0,1,0': start and end need 2 finite"),
+    (["run", "hydrostatic", "--discharge", "0,0,0:0,1,0"], "--discharge '0,0,0:0,1,0': case 'hydrostatic' is 2D"),
+    (["run", "hydrostatic", "--discharge", "0,0,0:0,1"], "--discharge '0,0,0:0,1': start and end need 2 finite"),
     (["run", "hydrostatic", "--discharge", "0,0:0,nan"], "need 2 finite"),
     (["run", "hydrostatic", "--discharge", "0,0:0,1:"], "NAME must be non-empty"),
     (["run", "hydrostatic", "--discharge", "0,0:0,1:P0"], "--discharge: two probes are named 'P0'"),
@@ -308,3 +312,41 @@ def test_a_rate_column_name_taken_refuses_the_probe_whole():
     with pytest.raises(ParameterError, match="two probes are named 'q_rate'"):
         sim.add(Discharge("q", (0.25, -0.05), (0.25, 0.2)))
     assert [p.name for p in sim.probes] == ["q_rate"] and not sim._step_probes
+
+
+def test_a_3d_rectangle_counts_what_crosses_it_within_its_corners():
+    # the plane x = 0.5, 0 <= y <= 1, 0 <= z <= 2: positive along +x
+    probe = Discharge("q", (0.5, 0.0, 0.0), (0.5, 1.0, 2.0))
+    sim = fake_sim([[0.4, 0.5, 1.0], [0.4, 1.5, 1.0], [0.6, 0.2, 0.1], [0.4, 0.9, 1.9], [0.4, 0.5, -0.1]],
+                   [1.0, 2.0, 4.0, 8.0, 16.0], rho0=1.0)
+
+    def move(pa):
+        pa["x"][0, 0] = 0.6            # +1 through the rectangle
+        pa["x"][1, 0] = 0.6            # beside it (y = 1.5): not counted
+        pa["x"][2, 0] = 0.45           # back through it: -4
+        pa["x"][3] = (0.6, 1.1, 1.9)   # meets the plane at y = 1.0, on the edge: +8
+        pa["x"][4, 0] = 0.6            # below it (z = -0.1): not counted
+
+    step(probe, sim, move)
+    assert probe.sample(sim) == pytest.approx(1.0 - 4.0 + 8.0)
+    assert probe.describe()["start"] == [0.5, 0.0, 0.0]
+    # a 2D section in a 3D run (and the other way round) names the mismatch
+    with pytest.raises(ParameterError, match="3 coordinates, the run is 2D"):
+        Discharge("r", (0.5, 0.0, 0.0), (0.5, 1.0, 2.0)).attach(fake_sim([[0.0, 0.0]], [1.0], rho0=1.0))
+
+
+def test_3d_dam_break_discharge_is_the_volume_moved_beyond_the_rectangle():
+    # the 3D dam break at dx = 0.05 m: a rectangle across the whole tank in the middle of its length
+    sim = sw.cases.build("dam-break-3d", dx=0.05)
+    x_mid = 0.8
+    lo, hi = sim.grid.lo, sim.grid.hi
+    sim.add(Discharge("mid", (x_mid, lo[1] - 1.0, lo[2] - 1.0), (x_mid, hi[1] + 1.0, hi[2] + 1.0)), every=0.02)
+    fp = sim.fluid.particles
+    assert not np.any(fp["x"][:, 0] > x_mid)
+    result = sim.run(0.3, progress=False)
+    fp = sim.fluid.particles
+    total = sim.fluid.initial_mass / sim.fluid.rho0
+    beyond = fp["m"][fp["x"][:, 0] > x_mid].sum() / sim.fluid.rho0
+    assert probe_unit(sim.probes[-2], 3) == "m^3" and not result.escaped
+    assert result["mid"][-1] > 0.02 * total               # the front has passed the middle
+    assert result["mid"][-1] == pytest.approx(beyond, abs=1e-13 * total)
