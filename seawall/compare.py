@@ -11,7 +11,8 @@ Metrics, per model (a cell is "n/a" only where the case has nothing to measure):
 * ``escaped`` -- fluid particles removed by the guards (``seawall.health``), and
   per reason ``escaped_domain`` (left the domain or the walls' hull),
   ``escaped_wall`` (crossed into a wall), ``escaped_unstable`` (density or
-  non-finite guard);
+  non-finite guard), ``escaped_overtopped`` (went over a wall's crest and out:
+  flow, not damage);
 * ``min_wall_distance_dx`` -- smallest signed distance of any fluid particle to
   the wall surface over the run, in particle spacings (the wall particle
   nearest to the fluid particle gives the surface point s and normal n, and
@@ -46,7 +47,7 @@ from .rundir import write_json
 ENERGY_CONSERVING_CASES = {"particle-in-box"}
 COLUMNS = ["boundary", "status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise",
            "f_sym", "energy_drift", "particle_steps_per_s", "wall_time_s", "relative_time", "steps",
-           "escaped_domain", "escaped_wall", "escaped_unstable"]
+           "escaped_domain", "escaped_wall", "escaped_unstable", "escaped_overtopped"]
 
 
 class MinWallDistance(Probe):

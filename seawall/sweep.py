@@ -29,7 +29,7 @@ BOUNDARY_KEY = "boundary"
 #: after the settings, the columns of sweep.csv (the metrics are defined in seawall.compare)
 RESULT_COLUMNS = ["status", "escaped", "min_wall_distance_dx", "wall_pressure_error", "pressure_noise", "f_sym",
                   "energy_drift", "particle_steps_per_s", "wall_time_s", "steps", "escaped_domain",
-                  "escaped_wall", "escaped_unstable", "run_dir"]
+                  "escaped_wall", "escaped_unstable", "run_dir", "escaped_overtopped"]
 
 
 def split_set_item(item, form="KEY=VALUE"):
