@@ -348,11 +348,11 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
     Corner/edge regions outside two or three faces are filled completely.
     With an open top the side walls span the interior's vertical cell centres
     (plus the bottom corner layers) and stop at the last whole cell below
-    hi_last: their top face is the **crest**, a wall surface like the others. Particles nearer to the crest
-    than to the inner face take their surface point on it (normal up; layer =
-    rows below it), those as near to both the crest's inner edge (diagonal
-    normal), so water landing on or flowing over the crest meets a wall
-    surface, not the far side of the inner face.
+    hi_last; they are ``2 * layers`` thick, and their top face (the **crest**)
+    and back face are wall surfaces like the inner face
+    (:func:`_open_tank_surfaces`): water that lands on the crest, goes over it
+    and runs down the back of the wall meets a surface, not the far side of
+    the inner face.
 
     Parameters
     ----------
@@ -363,7 +363,7 @@ def tank(lo, hi, dx, layers=3, open_top=True) -> Shape:
     dx : float
         Particle spacing [m].
     layers : int
-        Number of wall layers (>= 1).
+        Number of wall layers (>= 1); an open tank's side walls get twice as many.
     open_top : bool
         If False a lid is added at x_last = hi_last.
 
