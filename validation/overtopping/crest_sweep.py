@@ -17,8 +17,10 @@ counted +x every step): what crossed it has left the tank over the wall's back, 
 half at the end. Per model it records the status and the
 time reached, the removals per reason (``escaped_by_reason``) and their mass
 (``escaped_mass_by_reason``), the mass balance (``mass_drift``: (mass now + removed - start) /
-start), the overtopped volume per metre from the removals (mass / rho0) and from the discharge
-section, and their relative difference.
+start), the overtopped volume per metre from the removals (mass / rho0), split by where they left
+(past the downstream wall, ``x+``, or out through the domain's top, ``y+``: the run-up jet climbs
+above the case's domain, twice the walls' height, at H/50 and finer), and the volume the
+discharge section counted, with its relative difference from the removals past the wall.
 
 What must hold (the crest is flow): every run completes, nothing is removed as ``wall`` or
 ``unstable`` beyond the stated transient, the mass balance holds to round-off, and the two
@@ -106,27 +108,45 @@ def run_model(model, options, resolution, out, threads=1):
     proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
     rec = {"model": model, "params": options, "dx": dx, "exit_code": proc.returncode,
            "process_time_s": time.perf_counter() - started}
+    rec.update(read_run(run_dir, proc.stderr))
+    return rec
+
+
+def read_run(run_dir, stderr=""):
+    """A run's record from its summary.json and escaped.csv (``--refresh`` reads stored runs again)."""
     path = os.path.join(run_dir, "summary.json")
     if not os.path.exists(path):
-        rec.update(status="crashed", error=(proc.stderr.strip().splitlines() or [""])[-1])
-        return rec
+        return {"status": "crashed", "error": (stderr.strip().splitlines() or [""])[-1]}
     with open(path) as fh:
         s = json.load(fh)
     mass = s.get("escaped_mass_by_reason") or {}
+    # the overtopped removals by where they left: past the downstream wall (x+), which the section
+    # counts, or out through the domain's top (y+: the run-up jet climbing higher than the domain)
+    sides = {}
+    escaped = os.path.join(run_dir, "escaped.csv")
+    if os.path.exists(escaped):
+        with open(escaped) as fh:
+            rows = [line.rstrip("\n").split(",") for line in fh][1:]
+        for row in rows:
+            if row and row[-1] == "overtopped":
+                sides[row[-2]] = sides.get(row[-2], 0) + 1
+    over = (s.get("escaped_by_reason") or {}).get("overtopped", 0)
+    # every fluid particle of the dam break has the same mass: the removed volume per side is its share
     over_removed = float(mass.get("overtopped", 0.0)) / RHO0
+    over_crest = over_removed * sides.get("x+", 0) / over if over else 0.0
     section = (s.get("probes") or {}).get("over_crest") or {}
     over_section = section.get("final")
-    rec.update({
+    return {
         "status": s.get("status"), "t_stop": s.get("t_end"), "t_end": T_END, "error": s.get("error") or "",
         "steps": s.get("steps"), "n_fluid_end": s.get("n_fluid"),
         "escaped_by_reason": s.get("escaped_by_reason"), "escaped_mass_by_reason": mass,
-        "mass_drift": s.get("mass_drift"),
-        "overtopped_volume_removed": over_removed, "overtopped_volume_section": over_section,
-        "section_vs_removed": (None if over_section is None or over_removed == 0.0
-                               else (over_section - over_removed) / over_removed),
+        "overtopped_by_side": sides, "mass_drift": s.get("mass_drift"),
+        "overtopped_volume_removed": over_removed, "overtopped_volume_over_crest": over_crest,
+        "overtopped_volume_section": over_section,
+        "section_vs_removed": (None if over_section is None or over_crest == 0.0
+                               else (over_section - over_crest) / over_crest),
         "wall_time_s": s.get("wall_time_s"),
-    })
-    return rec
+    }
 
 
 def results_path(resolution):
@@ -158,8 +178,9 @@ def _stored_resolutions():
 def table(resolution, data):
     lines = [f"**H/{resolution}** (dx = {H / resolution * 1000:.2f} mm), to t sqrt(g/H) = 8:", "",
              "| model (setting) | status | t [s] | removed: domain / wall / unstable / overtopped | "
-             "overtopped volume [m^2/m] | discharge section vs removed | mass balance |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+             "overtopped: past the wall / out the top | overtopped volume [m^2/m] | discharge section vs past "
+             "the wall | mass balance |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for key in sorted(data["models"], key=lambda k: list(holding_order()).index(k.split(" ")[0])
                       if k.split(" ")[0] in holding_order() else 99):
         r = data["models"][key]
@@ -167,7 +188,9 @@ def table(resolution, data):
         counts = " / ".join(str(by.get(k, "n/a")) for k in ("domain", "wall", "unstable", "overtopped"))
         rel = r.get("section_vs_removed")
         drift = r.get("mass_drift")
+        sides = r.get("overtopped_by_side") or {}
         lines.append(f"| {key} | {r.get('status')} | {r.get('t_stop') or 0:.3f} | {counts} | "
+                     f"{sides.get('x+', 0)} / {sides.get('y+', 0)} | "
                      f"{r.get('overtopped_volume_removed', 0.0):.3e} | "
                      f"{'n/a' if rel is None else f'{rel:+.1e}'} | {'n/a' if drift is None else f'{drift:.1e}'} |")
     return "\n".join(lines)
@@ -200,8 +223,19 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2, help="runs at a time, one thread each (default 2)")
     ap.add_argument("--out", default=os.path.join(HERE, "runs"))
     ap.add_argument("--report-only", action="store_true", help="rewrite the tables from the stored results")
+    ap.add_argument("--refresh", action="store_true",
+                    help="read the stored results' run directories in --out again (no run) and rewrite the tables")
     args = ap.parse_args(argv)
     if args.report_only:
+        write_doc()
+        return 0
+    if args.refresh:
+        data = load(args.resolution)
+        for key, rec in data["models"].items():
+            run_dir = os.path.join(args.out, f"H{args.resolution}", key.replace(" ", "_"))
+            if os.path.exists(os.path.join(run_dir, "summary.json")):
+                rec.update(read_run(run_dir))
+        save(args.resolution, data)
         write_doc()
         return 0
     settings = holding_settings()
