@@ -40,6 +40,7 @@ from numba import njit
 
 from .errors import ParameterError, require_positive
 from .resources import require_memory
+from .polygons import inside_polygon
 from .shapes import Shape, _closest_on_polyline, _nearest_distances, _require_layers
 
 __all__ = [
@@ -747,19 +748,7 @@ def fill_polygon(points, dx, *, clearance=None, origin=None, walls=(), label="po
     axes = [origin[k] + (np.arange(ilo[k], ihi[k] + 1) + 0.5) * dx for k in range(2)]
     gx, gy = np.meshgrid(*axes, indexing="ij")
     pos = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    # winding number by crossings of the horizontal line through each point (shifted off the vertices)
-    y = pos[:, 1] + _SHIFT[1] * dx
-    wind = np.zeros(pos.shape[0], dtype=np.int64)
-    for a, b in zip(closed[:-1], closed[1:]):
-        if a[1] == b[1]:
-            continue
-        up = a[1] < b[1]
-        ylo, yhi = (a[1], b[1]) if up else (b[1], a[1])
-        spans = (y >= ylo) & (y < yhi)
-        xc = a[0] + (y[spans] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
-        right = xc > pos[spans, 0]
-        wind[np.nonzero(spans)[0][right]] += 1 if up else -1
-    pos = pos[wind != 0]
+    pos = pos[inside_polygon(pos, closed, dx)]
     if c > 0.0 and pos.shape[0]:
         _, d = _closest_on_polyline(pos, closed)
         pos = pos[d >= c * (1.0 - 1e-9)]
