@@ -74,9 +74,11 @@ def _key(model, options):
     return " ".join([model] + [f"{k}={v}" for k, v in sorted(options.items())])
 
 
-def _case_geometry(dx):
+def _case_geometry(dx, layout="layers"):
     """The downstream wall's inner face, the middle of its crest, the crest's height and one kernel
-    support at this dx (seawall.cases.tanks: the open tank's side walls are 2 * layers thick)."""
+    support at this dx (seawall.cases.tanks: the open tank's side walls are 2 * layers thick; a
+    repulsive model's wall is one row on the surface, which the hull follows at dx / 2, so the
+    section stands dx / 4 behind the row)."""
     from seawall.cases.base import wall_layers
     from seawall.cases.tanks import snap
     from seawall.kernels import CubicSpline
@@ -84,13 +86,15 @@ def _case_geometry(dx):
     kernel, h = CubicSpline(), 1.3 * dx
     length = snap(5.366 * H, dx)
     crest = snap(TANK_HEIGHT * H, dx)
-    middle = length + wall_layers(kernel, h, dx) * dx
+    middle = length + (wall_layers(kernel, h, dx) * dx if layout == "layers" else 0.25 * dx)
     return length, middle, crest, kernel.support(h)
 
 
 def run_model(model, options, resolution, out, threads=1):
+    from seawall.boundary.registry import boundary_by_name
+
     dx = H / resolution
-    _, middle, crest, support = _case_geometry(dx)
+    _, middle, crest, support = _case_geometry(dx, boundary_by_name(model, dict(options)).layout)
     # the section: across the middle of the downstream wall's crest, from one support below the crest
     # (water that runs along the crest a little inside its surface) up past the domain's top (the
     # run-up jet climbs far above the crest before it falls over it)
